@@ -1,0 +1,105 @@
+// bench.cpp — `treelearn bench`: physics (standing G1, 1 and 2 threads), rendering (640x360 with and
+// without PNG) and headless play throughput. Timing only; nothing here passes or fails.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <thread>
+
+#include "apps/commands.h"
+#include "engine/core/file_io.h"
+#include "engine/render/png_writer.h"
+#include "engine/render/renderer.h"
+#include "game/play.h"
+#include "levels/level.h"
+#include "robot/robot.h"
+
+namespace apps {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// seconds of wall time to simulate `substeps` substeps of a standing G1 (PD every substep)
+double timeStanding(const robot::RobotModel& model, int substeps) {
+  engine::PhysicsWorld world;
+  world.addGround(1.0);
+  robot::Robot robot(model, world, 0, 0, 0);
+  for (int i = 0; i < 500; ++i) {  // settle onto the ground first
+    robot.applyPd(world);
+    world.step(game::kSubstepSeconds);
+  }
+  const auto t = Clock::now();
+  for (int i = 0; i < substeps; ++i) {
+    robot.applyPd(world);
+    world.step(game::kSubstepSeconds);
+  }
+  return since(t);
+}
+
+}  // namespace
+
+int runBench(const BenchOptions& o) {
+  const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
+  std::ostringstream csv;
+  csv << "metric,value,unit\n";
+  auto report = [&](const char* metric, double value, const char* unit, const char* note) {
+    std::printf("%-38s %12.1f %-10s %s\n", metric, value, unit, note);
+    csv << metric << "," << value << "," << unit << "\n";
+  };
+  std::printf("treelearn bench (%u hardware threads)\n", std::thread::hardware_concurrency());
+
+  // physics: one world on one core, then two worlds on two threads
+  const int substeps = int(o.seconds / game::kSubstepSeconds);
+  const double one = timeStanding(model, substeps);
+  const double usPerStep = one / substeps * 1e6;
+  report("physics_us_per_substep_1thread", usPerStep, "us", "(target <= 70; MuJoCo ~25 on a comparable model)");
+  report("physics_ratio_to_mujoco", usPerStep / 25.0, "x", "(MuJoCo 2.2.2 figure from research/feasibility.md)");
+  report("control_ticks_per_s_1thread", substeps / game::kSubsteps / one, "ticks/s", "(0.01 s ticks, 5 substeps each)");
+  double two[2] = {0, 0};
+  {
+    std::thread a([&] { two[0] = timeStanding(model, substeps); });
+    std::thread b([&] { two[1] = timeStanding(model, substeps); });
+    a.join();
+    b.join();
+  }
+  const double aggregate = 2.0 * substeps / std::max(two[0], two[1]);
+  report("physics_us_per_substep_2threads", 1e6 / aggregate, "us", "(aggregate of two worlds on two threads)");
+  report("control_ticks_per_s_2threads", aggregate / game::kSubsteps, "ticks/s", "");
+
+  // rendering: the flat level's robot scene at 640x360
+  levels::Level flat = levels::parseLevel("name = \"bench\"\n", "bench.toml");
+  game::PlayOptions po;
+  po.ticks = 50;
+  engine::SceneSnapshot scene;
+  po.frameEvery = 50;
+  po.onFrame = [&](const engine::SceneSnapshot& s) { scene = s; };
+  game::play(flat, model, po);
+  {
+    engine::Renderer renderer(640, 360);
+    renderer.render(scene);
+    auto t = Clock::now();
+    for (int i = 0; i < o.frames; ++i) renderer.render(scene);
+    report("render_fps_640x360", o.frames / since(t), "frames/s", "(target >= 150; includes reading the pixels)");
+    const std::string dir = (std::filesystem::temp_directory_path() / "treelearn_bench_png").string();
+    engine::makeDirectories(dir);
+    t = Clock::now();
+    for (int i = 0; i < o.frames; ++i) {
+      renderer.render(scene);
+      engine::writePng(dir + "/frame.png", renderer.rgba(), 640, 360);
+    }
+    report("render_fps_640x360_png", o.frames / since(t), "frames/s", "(target >= 60; zlib level 1)");
+    std::filesystem::remove_all(dir);
+  }
+
+  // headless play of the flat level, no frames
+  game::PlayOptions play;
+  play.ticks = int64_t(o.seconds * 100);
+  const game::PlayResult r = game::play(flat, model, play);
+  report("play_realtime_factor", o.seconds / r.wallSeconds, "x", "(target >= 20; headless, no frames)");
+
+  if (!o.csv.empty()) engine::writeFileAtomic(o.csv, csv.str());
+  return 0;
+}
+
+}  // namespace apps

@@ -1,0 +1,256 @@
+// main.cpp — the treelearn command line: play, replay, bench (train/eval/tree arrive with the learning
+// issues). Parses arguments with CLI11, turns engine::Error into "error: ..." and exit code 2.
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "apps/commands.h"
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "engine/core/hash.h"
+#include "engine/loop/clock.h"
+#include "engine/render/frame_output.h"
+#include "game/play.h"
+#include "levels/level.h"
+#include "robot/robot_model.h"
+
+namespace {
+
+constexpr int kExitExpectationFailed = 1;
+constexpr int kExitBadInput = 2;
+constexpr int kFrameWidth = 640, kFrameHeight = 360;
+
+struct OutputOptions {
+  std::string framesDir, videoPath;
+  int fps = 50;
+  std::string camera = "side";
+};
+
+// ticks between rendered frames for a given frame rate (100 Hz ticks)
+int frameEvery(int fps) { return std::max(1, int(std::lround(1.0 / (fps * engine::kTickSeconds)))); }
+
+std::string resolveKeys(const std::string& keys, const levels::Level& level) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(keys, ec)) return keys;
+  const fs::path inLevel = fs::path(level.directory) / keys;
+  if (fs::exists(inLevel, ec)) return inLevel.string();
+  return keys;  // readFile reports it missing
+}
+
+std::string summaryText(const levels::Level& level, const game::PlayResult& r, const char* outcome) {
+  const game::Telemetry& t = r.telemetry;
+  const double simSeconds = double(r.ticks) * engine::kTickSeconds;
+  std::ostringstream s;
+  char line[512];
+  std::snprintf(line, sizeof line, "level      %s (%s)\n", level.name.c_str(), level.path.c_str());
+  s << line;
+  s << "outcome    " << outcome << "\n";
+  std::snprintf(line, sizeof line, "time       %.2f s simulated in %.2f s wall (%.1fx real time)\n", simSeconds,
+                r.wallSeconds, r.wallSeconds > 0 ? simSeconds / r.wallSeconds : 0.0);
+  s << line;
+  s << "score      0 (this level has no scoring entities)\n";
+  s << "falls      " << (r.fallen ? 1 : 0);
+  if (r.fallen) {
+    std::snprintf(line, sizeof line, " (at %.2f s)", double(r.fallTick) * engine::kTickSeconds);
+    s << line;
+  }
+  s << "\n";
+  std::string skills;
+  for (int k : t.skillsRequested) skills += (skills.empty() ? "" : ", ") + std::to_string(k);
+  s << "skills     requested keys: " << (skills.empty() ? "none" : skills)
+    << " (no skill models yet: the standing controller ran)\n";
+  std::snprintf(line, sizeof line, "pelvis     mean height %.3f m (min %.3f, max %.3f), max tilt %.1f deg\n",
+                t.ticks ? t.sumPelvisHeight / double(t.ticks) : 0.0, t.minPelvisHeight, t.maxPelvisHeight,
+                t.maxTilt * 180.0 / M_PI);
+  s << line;
+  std::snprintf(line, sizeof line, "position   x %.3f y %.3f m, path length %.3f m\n", r.finalSensors.basePosition.x(),
+                r.finalSensors.basePosition.y(), t.distance);
+  s << line;
+  s << "state hash " << engine::toHex(r.finalHash) << " after " << r.ticks << " ticks\n";
+  return s.str();
+}
+
+// plays with optional frame output; shared by play and replay
+game::PlayResult runWithOutput(const levels::Level& level, const robot::RobotModel& model, game::PlayOptions options,
+                               const OutputOptions& out) {
+  std::unique_ptr<engine::FrameOutput> frames;
+  if (!out.framesDir.empty() || !out.videoPath.empty()) {
+    if (out.camera != "side" && out.camera != "chase") throw engine::Error("--camera must be side or chase");
+    frames = std::make_unique<engine::FrameOutput>(out.framesDir, out.videoPath, kFrameWidth, kFrameHeight, out.fps);
+    options.frameEvery = frameEvery(out.fps);
+    options.camera = out.camera == "chase" ? engine::CameraMode::Chase : engine::CameraMode::Side;
+    options.onFrame = [&](const engine::SceneSnapshot& s) { frames->add(s); };
+  }
+  game::PlayResult r = game::play(level, model, options);
+  if (frames) {
+    frames->finish();
+    if (!out.videoPath.empty()) std::printf("video      %s (%d frames at %d fps)\n", out.videoPath.c_str(), frames->frames(), out.fps);
+    if (!out.framesDir.empty()) std::printf("frames     %s (%d PNG files)\n", out.framesDir.c_str(), frames->frames());
+  }
+  return r;
+}
+
+struct PlayArgs {
+  std::string level, keys, record, expect, summary;
+  double seconds = -1;
+  uint64_t seed = 1;
+  bool autopilot = false;
+  OutputOptions out;
+};
+
+int cmdPlay(const PlayArgs& a) {
+  const levels::Level level = levels::loadLevel(a.level);
+  const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
+  if (a.autopilot) throw engine::Error("--autopilot: no autopilot yet (it arrives with the Mario level)");
+  if (!a.expect.empty() && a.expect != "alive" && a.expect != "win")
+    throw engine::Error("--expect must be 'alive' or 'win', not '" + a.expect + "'");
+  if (a.expect == "win")
+    throw engine::Error(level.path + ": level '" + level.name + "' has no goal, so it cannot be won (use --expect alive)");
+
+  game::PlayOptions options;
+  options.seed = a.seed;
+  if (!a.keys.empty()) {
+    const std::string path = resolveKeys(a.keys, level);
+    options.events = engine::parseKeyScript(engine::readFile(path), path);
+  }
+  double seconds = a.seconds;
+  if (seconds < 0) seconds = options.events.empty() ? 10.0 : double(options.events.back().tick) * engine::kTickSeconds + 2.0;
+  if (!(seconds > 0) || seconds > 86400) throw engine::Error("--seconds must be in (0, 86400]");
+  options.ticks = engine::secondsToTicks(seconds);
+  if (!options.events.empty() && options.events.back().tick >= options.ticks)
+    std::fprintf(stderr, "warning: the key script runs past --seconds %.2f; later events are ignored\n", seconds);
+
+  const game::PlayResult r = runWithOutput(level, model, options, a.out);
+  const char* outcome = r.fallen ? "fell" : "alive (no fall)";
+  const std::string summary = summaryText(level, r, outcome);
+  std::fputs(summary.c_str(), stdout);
+  if (!a.summary.empty()) engine::writeFileAtomic(a.summary, summary);
+
+  if (!a.record.empty()) {
+    engine::Replay replay;
+    replay.level = a.level;
+    replay.levelHash = level.hash;
+    replay.robotHash = model.hash;
+    replay.skillsHash = 0;  // no skill models yet
+    replay.seed = a.seed;
+    replay.ticks = r.ticks;
+    replay.hashEvery = options.hashEvery;
+    for (const engine::KeyEvent& e : options.events)
+      if (e.tick < r.ticks) replay.events.push_back(e);
+    replay.states = r.hashes;
+    engine::saveReplay(a.record, replay);
+    std::printf("replay     %s (%zu events, %zu state hashes)\n", a.record.c_str(), replay.events.size(), replay.states.size());
+  }
+  if (a.expect == "alive" && r.fallen) {
+    std::printf("expectation 'alive' FAILED: the robot fell at %.2f s\n", double(r.fallTick) * engine::kTickSeconds);
+    return kExitExpectationFailed;
+  }
+  if (a.expect == "alive") std::printf("expectation 'alive' met\n");
+  return 0;
+}
+
+struct ReplayArgs {
+  std::string file;
+  bool verify = false;
+  OutputOptions out;
+};
+
+int cmdReplay(const ReplayArgs& a) {
+  const engine::Replay replay = engine::loadReplay(a.file);
+  const levels::Level level = levels::loadLevel(replay.level);
+  const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
+  if (level.hash != replay.levelHash)
+    throw engine::Error(a.file + ": level '" + replay.level + "' has changed since recording (hash " +
+                        engine::toHex(level.hash) + ", replay has " + engine::toHex(replay.levelHash) + ")");
+  if (model.hash != replay.robotHash)
+    throw engine::Error(a.file + ": the robot model has changed since recording (hash " + engine::toHex(model.hash) +
+                        ", replay has " + engine::toHex(replay.robotHash) + ")");
+  if (replay.skillsHash != 0)
+    throw engine::Error(a.file + ": recorded with skill models (hash " + engine::toHex(replay.skillsHash) +
+                        "), which this build does not have");
+
+  game::PlayOptions options;
+  options.seed = replay.seed;
+  options.ticks = replay.ticks;
+  options.events = replay.events;
+  options.hashEvery = replay.hashEvery;
+  if (a.verify) options.expected = &replay.states;
+  const game::PlayResult r = runWithOutput(level, model, options, a.out);
+  if (!a.verify) {
+    std::fputs(summaryText(level, r, r.fallen ? "fell" : "alive (no fall)").c_str(), stdout);
+    return 0;
+  }
+  if (r.divergedTick >= 0) {
+    uint64_t recorded = 0;
+    for (const auto& s : replay.states)
+      if (s.tick == r.divergedTick) recorded = s.hash;
+    std::printf("diverged at tick %lld (%.2f s): recorded %s, re-simulated %s\n", (long long)r.divergedTick,
+                double(r.divergedTick) * engine::kTickSeconds, engine::toHex(recorded).c_str(),
+                engine::toHex(r.hashes.back().hash).c_str());
+    return kExitExpectationFailed;
+  }
+  std::printf("identical: %zu state hashes over %lld ticks match\n", replay.states.size(), (long long)replay.ticks);
+  return 0;
+}
+
+void addOutputOptions(CLI::App* cmd, OutputOptions* out) {
+  cmd->add_option("--frames", out->framesDir, "Write PNG frames (640x360) into this folder");
+  cmd->add_option("--video", out->videoPath, "Write an MP4 video (needs ffmpeg)");
+  cmd->add_option("--fps", out->fps, "Frames per second of --frames/--video")->check(CLI::Range(1, 100));
+  cmd->add_option("--camera", out->camera, "Camera: side or chase")->check(CLI::IsMember({"side", "chase"}));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"treelearn: a Unitree G1 humanoid in Bullet that learns a tree of skills and plays levels with them.\n"
+               "Run 'treelearn <command> --help' for a command's options."};
+  app.require_subcommand(1);
+
+  PlayArgs play;
+  CLI::App* playCmd = app.add_subcommand("play", "Play a level headless and print a summary");
+  playCmd->add_option("level", play.level, "Level folder (holding level.toml) or .toml file")->required();
+  playCmd->add_option("--keys", play.keys, "Keyboard script (a path, or a file name inside the level folder)");
+  playCmd->add_flag("--autopilot", play.autopilot, "Let the autopilot play (not available yet)");
+  playCmd->add_option("--seconds", play.seconds, "Simulated seconds (default: script end + 2 s, or 10 s)");
+  playCmd->add_option("--seed", play.seed, "Random seed (default 1)");
+  playCmd->add_option("--record", play.record, "Write a replay file");
+  playCmd->add_option("--summary", play.summary, "Also write the summary to this file");
+  playCmd->add_option("--expect", play.expect, "Exit 1 unless this holds: alive (no fall) or win")
+      ->check(CLI::IsMember({"alive", "win"}));
+  addOutputOptions(playCmd, &play.out);
+
+  ReplayArgs replay;
+  CLI::App* replayCmd = app.add_subcommand("replay", "Re-simulate a replay file");
+  replayCmd->add_option("replay", replay.file, "Replay file written by play --record")->required();
+  replayCmd->add_flag("--verify", replay.verify, "Check the recorded state hashes; report the first diverging tick");
+  addOutputOptions(replayCmd, &replay.out);
+
+  apps::BenchOptions bench;
+  CLI::App* benchCmd = app.add_subcommand("bench", "Measure physics, rendering and play throughput");
+  benchCmd->add_option("--seconds", bench.seconds, "Simulated seconds per physics measurement")->check(CLI::Range(0.1, 3600.0));
+  benchCmd->add_option("--frames", bench.frames, "Frames per rendering measurement")->check(CLI::Range(1, 100000));
+  benchCmd->add_option("--csv", bench.csv, "Also write the results as CSV");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : kExitBadInput;
+  }
+  try {
+    if (*playCmd) return cmdPlay(play);
+    if (*replayCmd) return cmdReplay(replay);
+    if (*benchCmd) return apps::runBench(bench);
+  } catch (const engine::Error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitBadInput;
+  }
+  return 0;
+}

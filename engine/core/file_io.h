@@ -1,0 +1,21 @@
+// file_io.h — whole-file reads and atomic writes (temp file in the same folder, then rename),
+// so an interrupted or failed write never leaves a half-written output behind.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace engine {
+
+/// Reads a whole file as bytes. Throws engine::Error naming the file if it cannot be read.
+std::string readFile(const std::string& path);
+
+/// Writes bytes to path atomically: writes path.tmp.<pid>, fsyncs, renames. Throws engine::Error on failure
+/// (the temp file is removed and any existing file at path is left untouched).
+void writeFileAtomic(const std::string& path, std::string_view bytes);
+
+/// Creates a directory and its parents if missing. Throws engine::Error on failure.
+void makeDirectories(const std::string& path);
+
+}  // namespace engine

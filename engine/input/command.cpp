@@ -1,0 +1,105 @@
+// command.cpp — held-key bookkeeping, the interlocked velocity ramps and the amplitude ramp.
+#include "engine/input/command.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+namespace engine {
+namespace {
+
+constexpr std::string_view kLetterOrder = "WASDQERF";
+
+// Differences this small count as "reached": absorbs the rounding of repeated additions, so a ramp of
+// n steps of size r lands exactly on its target (e.g. 60 steps of 0.02 m/s reach exactly 1.2 m/s).
+constexpr double kSnapEpsilon = 1e-9;
+
+// Moves current toward target by at most maxDelta (maxDelta >= 0), landing exactly on target.
+double moveTowards(double current, double target, double maxDelta) {
+  const double diff = target - current;
+  if (std::abs(diff) <= maxDelta + kSnapEpsilon) return target;
+  return current + (diff > 0 ? maxDelta : -maxDelta);
+}
+
+// +1, -1 or 0 for a pair of opposing keys (both or neither held: 0).
+int direction(uint32_t keys, char positive, char negative) {
+  const bool p = (keys & keyMask(positive)) != 0;
+  const bool n = (keys & keyMask(negative)) != 0;
+  return p == n ? 0 : (p ? 1 : -1);
+}
+
+}  // namespace
+
+uint32_t keyMask(char key) {
+  if (key >= '0' && key <= '9') return 1u << (key - '0');
+  const size_t i = kLetterOrder.find(key);
+  return i == std::string_view::npos ? 0u : 1u << (10 + i);
+}
+
+std::string keysHeldString(const CommandState& state) {
+  std::string s;
+  const auto add = [&](char key) {
+    if (!(state.keysHeld & keyMask(key))) return;
+    if (!s.empty()) s += '+';
+    s += key;
+  };
+  for (char key : kLetterOrder) add(key);
+  for (char key = '0'; key <= '9'; ++key) add(key);
+  return s;
+}
+
+CommandInput::CommandInput(CommandLimits limits) : limits_(limits) {}
+
+void CommandInput::apply(const KeyEvent& event) {
+  const uint32_t bit = keyMask(event.key);
+  if (bit == 0) return;
+  const bool isDigit = event.key >= '0' && event.key <= '9';
+  switch (event.action) {
+    case KeyAction::kDown:
+      state_.keysHeld |= bit;
+      tapped_ &= ~bit;  // a down after a tap in the same tick keeps the key held
+      if (isDigit) state_.skillRequest = event.key - '0';
+      break;
+    case KeyAction::kUp:
+      state_.keysHeld &= ~bit;
+      tapped_ &= ~bit;
+      break;
+    case KeyAction::kTap:
+      if (isDigit) state_.skillRequest = event.key - '0';
+      if (!(state_.keysHeld & bit)) {
+        state_.keysHeld |= bit;
+        tapped_ |= bit;
+      }
+      break;
+  }
+}
+
+void CommandInput::tick() {
+  const uint32_t keys = state_.keysHeld;
+  CommandState& s = state_;
+
+  // Velocity axes in a fixed order; each sees the others as already updated this tick.
+  const int forward = direction(keys, 'W', 'S');
+  double target = 0.0;
+  if (forward != 0 && s.vy == 0.0 && s.wz == 0.0) target = forward > 0 ? limits_.vxForward : limits_.vxBackward;
+  s.vx = moveTowards(s.vx, target, limits_.vRate);
+
+  const int side = direction(keys, 'Q', 'E');
+  target = (side != 0 && s.vx == 0.0 && s.wz == 0.0) ? side * limits_.vyMax : 0.0;
+  s.vy = moveTowards(s.vy, target, limits_.vRate);
+
+  const int turn = direction(keys, 'A', 'D');
+  target = (turn != 0 && s.vx == 0.0 && s.vy == 0.0) ? turn * limits_.wzMax : 0.0;
+  s.wz = moveTowards(s.wz, target, limits_.wzRate);
+
+  // Amplitude: R raises, F lowers, kept in [0, 1].
+  const int raise = direction(keys, 'R', 'F');
+  if (raise != 0) s.amplitude = moveTowards(s.amplitude, raise > 0 ? 1.0 : 0.0, limits_.amplitudeRate);
+  s.amplitude = std::clamp(s.amplitude, 0.0, 1.0);
+
+  // Taps last exactly one tick.
+  s.keysHeld &= ~tapped_;
+  tapped_ = 0;
+}
+
+}  // namespace engine

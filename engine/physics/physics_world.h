@@ -1,0 +1,77 @@
+// physics_world.h — the 3D world (Bullet 3.24 btMultiBody, float build): ground, static boxes and
+// articulations. Owned by the game loop and stepped with a fixed substep; Bullet types never leave the .cpp.
+// Single-threaded; two worlds may run on two threads. Deterministic for the same sequence of calls.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "engine/physics/articulation.h"
+
+namespace engine {
+
+/// World-wide settings.
+struct PhysicsSettings {
+  double gravity = 9.81;      ///< [m/s^2], along -Z
+  int solverIterations = 10;  ///< constraint solver iterations per substep
+  bool jointLimits = true;    ///< add a limit constraint per revolute joint
+};
+
+/// Handle of an articulation inside a PhysicsWorld.
+using ArticulationId = int;
+
+class PhysicsWorld {
+ public:
+  explicit PhysicsWorld(const PhysicsSettings& settings = {});
+  ~PhysicsWorld();
+  PhysicsWorld(const PhysicsWorld&) = delete;
+  PhysicsWorld& operator=(const PhysicsWorld&) = delete;
+
+  /// Adds the infinite ground plane z = height.
+  void addGround(double friction, double height = 0.0);
+
+  /// Adds a static box (centre, rotation, half sizes in metres). Returns its index.
+  int addStaticBox(const Eigen::Vector3d& centre, const Eigen::Quaterniond& rotation,
+                   const Eigen::Vector3d& halfExtents, double friction);
+
+  /// Builds an articulation with its base link frame at basePose and all joints at q = 0.
+  ArticulationId addArticulation(const ArticulationDef& def, const Eigen::Isometry3d& basePose, double friction);
+
+  /// Sets base pose, base velocities (world) and joint positions/velocities at once (a teleport).
+  void setState(ArticulationId id, const ArticulationState& state);
+
+  /// Reads the full kinematic state.
+  void readState(ArticulationId id, ArticulationState* state) const;
+
+  /// World pose of a link frame (link -1 = base).
+  Eigen::Isometry3d linkPose(ArticulationId id, int link) const;
+
+  /// World position of the whole-body centre of mass [m].
+  Eigen::Vector3d centreOfMass(ArticulationId id) const;
+
+  /// Joint torques applied during the next substep only [N m], one per link.
+  void setJointTorques(ArticulationId id, const double* tau);
+
+  /// Sum of contact normal forces on a link during the last substep [N] (link -1 = base).
+  double contactNormalForce(ArticulationId id, int link) const;
+
+  /// Advances the world by dt seconds (one substep; no internal accumulator or interpolation).
+  void step(double dt);
+
+  /// Number of articulations.
+  int articulationCount() const;
+
+  /// Number of contact points touching articulation links after the last substep.
+  int contactPointCount() const;
+
+  /// Hash of the full dynamic state (bitwise), for replays and determinism tests.
+  uint64_t stateHash() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace engine

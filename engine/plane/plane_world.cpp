@@ -1,0 +1,83 @@
+// plane_world.cpp — Box2D 2.4 implementation of engine::PlaneWorld.
+#include "engine/plane/plane_world.h"
+
+#include <box2d/box2d.h>
+
+#include <algorithm>
+
+namespace engine {
+
+struct PlaneWorld::Impl {
+  b2World world{b2Vec2(0.0f, 0.0f)};
+  std::vector<b2Body*> bodies;
+};
+
+PlaneWorld::PlaneWorld() : impl_(std::make_unique<Impl>()) {}
+PlaneWorld::~PlaneWorld() = default;
+
+void PlaneWorld::addStaticRect(const Eigen::Vector2d& centre, const Eigen::Vector2d& halfSize, double angle, int tag) {
+  b2BodyDef def;
+  def.type = b2_staticBody;
+  def.position.Set(float(centre.x()), float(centre.y()));
+  def.angle = float(angle);
+  def.userData.pointer = static_cast<uintptr_t>(tag + 1);
+  b2Body* body = impl_->world.CreateBody(&def);
+  b2PolygonShape box;
+  box.SetAsBox(float(halfSize.x()), float(halfSize.y()));
+  body->CreateFixture(&box, 0.0f);
+  impl_->bodies.push_back(body);
+}
+
+RayHit PlaneWorld::rayCast(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const {
+  struct Closest : b2RayCastCallback {
+    RayHit best;
+    float ReportFixture(b2Fixture* f, const b2Vec2& p, const b2Vec2& n, float fraction) override {
+      best.hit = true;
+      best.point = Eigen::Vector2d(p.x, p.y);
+      best.normal = Eigen::Vector2d(n.x, n.y);
+      best.fraction = fraction;
+      best.tag = static_cast<int>(f->GetBody()->GetUserData().pointer) - 1;
+      return fraction;  // clip the ray: only closer hits are reported from now on
+    }
+  } cb;
+  if ((to - from).squaredNorm() > 0)
+    impl_->world.RayCast(&cb, b2Vec2(float(from.x()), float(from.y())), b2Vec2(float(to.x()), float(to.y())));
+  return cb.best;
+}
+
+std::vector<int> PlaneWorld::queryCircle(const Eigen::Vector2d& centre, double radius) const {
+  struct Overlaps : b2QueryCallback {
+    std::vector<b2Fixture*> found;
+    bool ReportFixture(b2Fixture* f) override {
+      found.push_back(f);
+      return true;
+    }
+  } cb;
+  b2AABB box;
+  box.lowerBound = b2Vec2(float(centre.x() - radius), float(centre.y() - radius));
+  box.upperBound = b2Vec2(float(centre.x() + radius), float(centre.y() + radius));
+  impl_->world.QueryAABB(&cb, box);
+
+  // exact test of each candidate against the circle
+  b2CircleShape circle;
+  circle.m_radius = float(radius);
+  const b2Transform at(b2Vec2(float(centre.x()), float(centre.y())), b2Rot(0.0f));
+  std::vector<std::pair<size_t, int>> hits;
+  for (b2Fixture* f : cb.found) {
+    if (!b2TestOverlap(f->GetShape(), 0, &circle, 0, f->GetBody()->GetTransform(), at)) continue;
+    const size_t order = static_cast<size_t>(
+        std::find(impl_->bodies.begin(), impl_->bodies.end(), f->GetBody()) - impl_->bodies.begin());
+    hits.emplace_back(order, static_cast<int>(f->GetBody()->GetUserData().pointer) - 1);
+  }
+  std::sort(hits.begin(), hits.end());
+  std::vector<int> tags;
+  for (const auto& h : hits)
+    if (std::find(tags.begin(), tags.end(), h.second) == tags.end()) tags.push_back(h.second);
+  return tags;
+}
+
+void PlaneWorld::step(double dt) { impl_->world.Step(float(dt), 8, 3); }
+
+int PlaneWorld::bodyCount() const { return static_cast<int>(impl_->bodies.size()); }
+
+}  // namespace engine

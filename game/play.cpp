@@ -1,0 +1,48 @@
+// play.cpp — the fixed-tick loop: one clock (the session's tick), events delivered on their tick.
+#include "game/play.h"
+
+#include <chrono>
+
+#include "engine/input/input_timeline.h"
+
+namespace game {
+
+PlayResult play(const levels::Level& level, const robot::RobotModel& model, const PlayOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  Session session(level, model, SessionOptions{options.seed});
+  engine::InputTimeline timeline(options.events);
+  PlayResult result;
+  size_t nextExpected = 0;
+
+  if (options.frameEvery > 0 && options.onFrame) options.onFrame(session.snapshot(options.camera));
+  while (session.tick() < options.ticks) {
+    session.step(timeline.eventsAt(session.tick()));
+    const int64_t done = session.tick();  // ticks completed
+
+    if (options.hashEvery > 0 && done % options.hashEvery == 0) {
+      const engine::StateHash h{done, session.stateHash()};
+      result.hashes.push_back(h);
+      if (options.expected) {
+        while (nextExpected < options.expected->size() && (*options.expected)[nextExpected].tick < done) ++nextExpected;
+        if (nextExpected < options.expected->size() && (*options.expected)[nextExpected].tick == done &&
+            (*options.expected)[nextExpected].hash != h.hash) {
+          result.divergedTick = done;
+          break;
+        }
+      }
+    }
+    if (options.frameEvery > 0 && options.onFrame && done % options.frameEvery == 0)
+      options.onFrame(session.snapshot(options.camera));
+    if (options.stopOnFall && session.fallen()) break;
+  }
+  result.ticks = session.tick();
+  result.fallen = session.fallen();
+  result.fallTick = session.fallTick();
+  result.finalHash = session.stateHash();
+  result.telemetry = session.telemetry();
+  result.finalSensors = session.sensors();
+  result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace game

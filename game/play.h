@@ -1,0 +1,44 @@
+// play.h — runs a Session for a number of ticks from a list of key events: the headless game loop used
+// by `play`, `replay` and the tests. Frames leave through a callback so simulation never touches the
+// renderer. Optionally records state hashes (for replays) or checks them (for --verify).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "engine/input/key_script.h"
+#include "engine/render/scene_snapshot.h"
+#include "engine/replay/replay.h"
+#include "game/session.h"
+
+namespace game {
+
+struct PlayOptions {
+  uint64_t seed = 1;
+  int64_t ticks = 1000;                     ///< how long to run [ticks of 0.01 s]
+  std::vector<engine::KeyEvent> events;     ///< sorted by tick
+  int hashEvery = 50;                       ///< record a state hash every N ticks (0 = never)
+  const std::vector<engine::StateHash>* expected = nullptr;  ///< if set, stop at the first mismatch
+  int frameEvery = 0;                       ///< call onFrame every N ticks (0 = never)
+  engine::CameraMode camera = engine::CameraMode::Side;
+  std::function<void(const engine::SceneSnapshot&)> onFrame;
+  bool stopOnFall = false;                  ///< end the run at the first fall
+};
+
+struct PlayResult {
+  int64_t ticks = 0;                        ///< ticks simulated
+  bool fallen = false;
+  int64_t fallTick = -1;
+  std::vector<engine::StateHash> hashes;    ///< recorded every hashEvery ticks (after the tick)
+  int64_t divergedTick = -1;                ///< first tick whose hash differed from expected, -1 if none
+  uint64_t finalHash = 0;
+  Telemetry telemetry;
+  robot::Sensors finalSensors;
+  double wallSeconds = 0;
+};
+
+/// Plays level with model for options.ticks ticks.
+PlayResult play(const levels::Level& level, const robot::RobotModel& model, const PlayOptions& options);
+
+}  // namespace game

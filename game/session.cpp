@@ -1,0 +1,170 @@
+// session.cpp — builds a level's worlds and entities and runs the per-tick system pipeline.
+#include "game/session.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "engine/core/hash.h"
+#include "engine/loop/clock.h"
+#include "game/components.h"
+
+namespace game {
+namespace {
+
+constexpr uint32_t kRobotColour = 0xe06a1aff;  // orange, so tests can find the robot in a frame
+constexpr double kInitialJitter = 0.01;        // +- rad on every joint, from the seed
+
+// a double in [0, 1) from 53 random bits (portable, unlike std::uniform_real_distribution)
+double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+
+}  // namespace
+
+Session::Session(const levels::Level& level, const robot::RobotModel& model, const SessionOptions& options)
+    : level_(level), model_(model), rng_(options.seed) {
+  // ground and static boxes: one entity each, mirrored into the 3D world and the 2D layer
+  const engine::Entity ground = registry_.create();
+  registry_.add(ground, Ground{level.groundFriction});
+  physics_.addGround(level.groundFriction);
+  for (size_t i = 0; i < level.boxes.size(); ++i) {
+    const levels::BoxDef& b = level.boxes[i];
+    StaticBox box;
+    box.centre = b.centre;
+    box.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(b.yaw, Eigen::Vector3d::UnitZ()));
+    box.halfExtents = 0.5 * b.size;
+    box.rgba = b.rgba;
+    registry_.add(registry_.create(), box);
+    physics_.addStaticBox(box.centre, box.rotation, box.halfExtents, b.friction);
+    if (level.plane == levels::Plane2d::Side)
+      plane_.addStaticRect({b.centre.x(), b.centre.z()}, {0.5 * b.size.x(), 0.5 * b.size.z()}, 0.0, int(i));
+    else
+      plane_.addStaticRect({b.centre.x(), b.centre.y()}, {0.5 * b.size.x(), 0.5 * b.size.y()}, b.yaw, int(i));
+  }
+
+  // the robot at the spawn point, joints jittered around the default pose by the seed
+  robot_ = std::make_unique<robot::Robot>(model, physics_, level.spawn.x(), level.spawn.y(), level.spawnYaw);
+  registry_.add(registry_.create(), RobotTag{kRobotColour});
+  robot::JointArray q = robot_->command().target;
+  for (double& v : q) v += kInitialJitter * (2.0 * unit(rng_) - 1.0);
+  robot_->teleport(physics_, robot_->linkPose(physics_, -1), q);
+  sensors_ = robot_->sense(physics_);
+}
+
+double Session::seconds() const { return double(tick_) * engine::kTickSeconds; }
+
+void Session::step(const std::vector<engine::KeyEvent>& events) {
+  inputSystem(events);
+  controlSystem();
+  physicsSystem();
+  rulesSystem();
+  telemetrySystem();
+  ++tick_;
+}
+
+// keys -> command state (skill request, ramped vx / vy / wz with the interlock)
+void Session::inputSystem(const std::vector<engine::KeyEvent>& events) {
+  for (const engine::KeyEvent& e : events) input_.apply(e);
+  input_.tick();
+  if (input_.state().skillRequest >= 0) telemetry_.skillsRequested.insert(input_.state().skillRequest);
+}
+
+// until learned skills exist every request is accepted and the standing controller drives the robot
+void Session::controlSystem() { robot_->setCommand(robot::Robot::standingCommand(model_)); }
+
+// PD torques are recomputed every 0.002 s substep inside the 0.01 s tick
+void Session::physicsSystem() {
+  for (int k = 0; k < kSubsteps; ++k) {
+    robot_->applyPd(physics_);
+    physics_.step(kSubstepSeconds);
+  }
+  plane_.step(engine::kTickSeconds);
+}
+
+void Session::rulesSystem() {
+  const robot::Sensors previous = sensors_;
+  sensors_ = robot_->sense(physics_);
+  telemetry_.distance += (sensors_.basePosition - previous.basePosition).head<2>().norm();
+  if (!fallen_ && (sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt)) {
+    fallen_ = true;
+    fallTick_ = tick_;
+  }
+}
+
+void Session::telemetrySystem() {
+  const double z = sensors_.basePosition.z();
+  telemetry_.minPelvisHeight = std::min(telemetry_.minPelvisHeight, z);
+  telemetry_.maxPelvisHeight = std::max(telemetry_.maxPelvisHeight, z);
+  telemetry_.sumPelvisHeight += z;
+  telemetry_.maxTilt = std::max(telemetry_.maxTilt, sensors_.tilt);
+  ++telemetry_.ticks;
+}
+
+uint64_t Session::stateHash() const {
+  engine::Hasher h;
+  h.value(physics_.stateHash());
+  h.value(tick_);
+  const engine::CommandState& c = input_.state();
+  h.value(c.skillRequest);
+  h.value(c.vx);
+  h.value(c.vy);
+  h.value(c.wz);
+  h.value(c.amplitude);
+  h.value(c.keysHeld);
+  return h.value();
+}
+
+std::string Session::hudLine() const {
+  const engine::CommandState& c = input_.state();
+  char buf[256];
+  const std::string keys = engine::keysHeldString(c);
+  std::string skill = "stand";
+  if (c.skillRequest >= 0) skill = "stand (key " + std::to_string(c.skillRequest) + ": no skill model yet)";
+  std::snprintf(buf, sizeof buf, "T %6.2fs  SKILL %s  KEYS %s  CMD vx %+.2f vy %+.2f wz %+.2f%s", seconds(),
+                skill.c_str(), keys.empty() ? "-" : keys.c_str(), c.vx, c.vy, c.wz, fallen_ ? "  FALLEN" : "");
+  return buf;
+}
+
+engine::SceneSnapshot Session::snapshot(engine::CameraMode camera) const {
+  engine::SceneSnapshot s;
+  s.camera = camera;
+  s.follow = sensors_.basePosition;
+  s.followYaw = sensors_.yaw;
+  engine::DrawShape ground;
+  ground.kind = engine::ShapeKind::Plane;
+  s.shapes.push_back(ground);
+
+  // level boxes
+  registry_.each<StaticBox>([&](engine::Entity, const StaticBox& b) {
+    engine::DrawShape d;
+    d.kind = engine::ShapeKind::Box;
+    d.position = b.centre;
+    d.rotation = b.rotation;
+    d.halfExtents = b.halfExtents;
+    d.rgba = b.rgba;
+    s.shapes.push_back(d);
+  });
+
+  // robot links as their collision primitives
+  registry_.each<RobotTag>([&](engine::Entity, const RobotTag& tag) {
+    const engine::ArticulationDef& def = model_.articulation;
+    for (int link = -1; link < int(def.links.size()); ++link) {
+      const engine::LinkDef& l = link < 0 ? def.base : def.links[size_t(link)];
+      const Eigen::Isometry3d pose = robot_->linkPose(physics_, link);
+      for (const engine::ColliderDef& c : l.colliders) {
+        const Eigen::Isometry3d w = pose * c.pose;
+        engine::DrawShape d;
+        d.kind = c.kind;
+        d.position = w.translation();
+        d.rotation = Eigen::Quaterniond(w.rotation());
+        d.halfExtents = c.halfExtents;
+        d.radius = c.radius;
+        d.halfLength = c.halfLength;
+        d.rgba = (l.name == "torso_link" || l.name == "pelvis") ? 0x3a3f4aff : tag.rgba;
+        s.shapes.push_back(d);
+      }
+    }
+  });
+  s.hud = hudLine();
+  return s;
+}
+
+}  // namespace game

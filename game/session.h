@@ -1,0 +1,97 @@
+// session.h — one play-through of a level: the ECS registry, the 3D and 2D worlds, the robot, the
+// command input and the rules, advanced one fixed control tick at a time by step(). The tick is a
+// pipeline of systems: input -> control -> physics -> rules -> telemetry (render reads snapshot()).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "engine/ecs/registry.h"
+#include "engine/input/command.h"
+#include "engine/physics/physics_world.h"
+#include "engine/plane/plane_world.h"
+#include "engine/render/scene_snapshot.h"
+#include "levels/level.h"
+#include "robot/robot.h"
+
+namespace game {
+
+/// Physics substeps per control tick and their length: 5 x 0.002 s = 0.01 s (DESIGN.md §3).
+constexpr int kSubsteps = 5;
+constexpr double kSubstepSeconds = 0.002;
+
+/// The fall rule: the robot has fallen when the pelvis is lower than this [m] ...
+constexpr double kFallPelvisHeight = 0.45;
+/// ... or the pelvis is tilted more than this from upright [rad] (about 46 degrees).
+constexpr double kFallTilt = 0.8;
+
+struct SessionOptions {
+  uint64_t seed = 1;  ///< drives every random choice (today: the initial joint jitter)
+};
+
+/// Running statistics for the summary.
+struct Telemetry {
+  double minPelvisHeight = 1e9, maxPelvisHeight = 0;
+  double sumPelvisHeight = 0;
+  double maxTilt = 0;
+  double distance = 0;  ///< horizontal path length of the pelvis [m]
+  int64_t ticks = 0;
+  std::set<int> skillsRequested;
+};
+
+class Session {
+ public:
+  Session(const levels::Level& level, const robot::RobotModel& model, const SessionOptions& options);
+
+  /// Advances one control tick (0.01 s) after applying this tick's key events.
+  void step(const std::vector<engine::KeyEvent>& events);
+
+  int64_t tick() const { return tick_; }
+  double seconds() const;
+  bool fallen() const { return fallen_; }
+  int64_t fallTick() const { return fallTick_; }
+
+  /// Hash of everything that evolves: physics state, tick, command state.
+  uint64_t stateHash() const;
+
+  /// What the renderer should draw now; hud is left for the caller to fill.
+  engine::SceneSnapshot snapshot(engine::CameraMode camera) const;
+
+  /// The HUD line: time, skill, keys held.
+  std::string hudLine() const;
+
+  const robot::Sensors& sensors() const { return sensors_; }
+  const engine::CommandState& command() const { return input_.state(); }
+  const Telemetry& telemetry() const { return telemetry_; }
+  const engine::PlaneWorld& plane() const { return plane_; }
+  const engine::PhysicsWorld& physics() const { return physics_; }
+  const levels::Level& level() const { return level_; }
+  const robot::Robot& robot() const { return *robot_; }
+
+ private:
+  void inputSystem(const std::vector<engine::KeyEvent>& events);
+  void controlSystem();
+  void physicsSystem();
+  void rulesSystem();
+  void telemetrySystem();
+
+  const levels::Level& level_;
+  const robot::RobotModel& model_;
+  std::mt19937_64 rng_;
+  engine::Registry registry_;
+  engine::PhysicsWorld physics_;
+  engine::PlaneWorld plane_;
+  std::unique_ptr<robot::Robot> robot_;
+  engine::CommandInput input_;
+  robot::Sensors sensors_;
+  Telemetry telemetry_;
+  int64_t tick_ = 0;
+  bool fallen_ = false;
+  int64_t fallTick_ = -1;
+};
+
+}  // namespace game
