@@ -216,7 +216,8 @@ int main(int argc, char** argv) {
   playCmd->add_option("level", play.level, "Level folder (holding level.toml) or .toml file")->required();
   playCmd->add_option("--keys", play.keys, "Keyboard script (a path, or a file name inside the level folder)");
   playCmd->add_flag("--autopilot", play.autopilot, "Let the autopilot play (not available yet)");
-  playCmd->add_option("--seconds", play.seconds, "Simulated seconds (default: script end + 2 s, or 10 s)");
+  playCmd->add_option("--seconds", play.seconds, "Simulated seconds (default: script end + 2 s, or 10 s)")
+      ->check(CLI::Range(0.01, 86400.0));
   playCmd->add_option("--seed", play.seed, "Random seed (default 1)");
   playCmd->add_option("--record", play.record, "Write a replay file");
   playCmd->add_option("--summary", play.summary, "Also write the summary to this file");

@@ -1,0 +1,124 @@
+// cli_test.cpp — the treelearn program end to end: exit codes, messages, replays and outputs on disk.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "engine/core/file_io.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kSource = TREELEARN_SOURCE_DIR;
+
+struct CliRun {
+  int code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+CliRun run(const std::string& args) {
+  const std::string cmd = "cd " + kSource + " && " + TREELEARN_BINARY + " " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string tempDir(const std::string& name) {
+  const std::string d = testing::TempDir() + "/treelearn_cli_" + name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+}  // namespace
+
+TEST(Cli, HelpListsTheCommands) {
+  const CliRun r = run("--help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* c : {"play", "replay", "bench"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
+}
+
+TEST(Cli, FlatSquareScriptStaysAlive) {
+  const CliRun r = run("play levels/flat --keys square.keys --expect alive");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("expectation 'alive' met"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("requested keys: 0"), std::string::npos) << r.out;
+}
+
+TEST(Cli, BadArgumentsExitWithCodeTwo) {
+  EXPECT_EQ(run("play levels/flat --bogus").code, 2);
+  EXPECT_EQ(run("play levels/flat --seconds abc").code, 2);
+  EXPECT_EQ(run("play levels/flat --seconds -5").code, 2);
+  EXPECT_EQ(run("play levels/flat --expect victory").code, 2);
+  EXPECT_EQ(run("frobnicate").code, 2);
+  EXPECT_EQ(run("").code, 2);
+  const CliRun missing = run("play levels/nowhere");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.out.find("levels/nowhere"), std::string::npos) << missing.out;
+}
+
+TEST(Cli, BadKeyScriptNamesFileAndLine) {
+  const std::string d = tempDir("keys");
+  engine::writeFileAtomic(d + "/bad.keys", "0.00 tap 0\n0.50 hold W\n");
+  const CliRun r = run("play levels/flat --keys " + d + "/bad.keys");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("bad.keys:2:"), std::string::npos) << r.out;
+}
+
+TEST(Cli, ExpectWinOnALevelWithoutGoalIsAnError) {
+  const CliRun r = run("play levels/flat --seconds 1 --expect win");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("no goal"), std::string::npos) << r.out;
+}
+
+TEST(Cli, RecordedReplayVerifiesIdentical) {
+  const std::string d = tempDir("replay");
+  const CliRun rec = run("play levels/steps --keys " + kSource + "/levels/flat/square.keys --seconds 4 --seed 11 --record " +
+                      d + "/run.replay");
+  ASSERT_EQ(rec.code, 0) << rec.out;
+  const CliRun ver = run("replay " + d + "/run.replay --verify");
+  EXPECT_EQ(ver.code, 0) << ver.out;
+  EXPECT_NE(ver.out.find("identical: 8 state hashes over 400 ticks match"), std::string::npos) << ver.out;
+}
+
+TEST(Cli, CorruptedAndTruncatedReplaysAreRejected) {
+  const std::string d = tempDir("corrupt");
+  ASSERT_EQ(run("play levels/flat --seconds 1 --record " + d + "/ok.replay").code, 0);
+  const std::string good = engine::readFile(d + "/ok.replay");
+  std::string flipped = good;
+  flipped[flipped.size() / 2] ^= 0x01;
+  engine::writeFileAtomic(d + "/flipped.replay", flipped);
+  engine::writeFileAtomic(d + "/short.replay", good.substr(0, good.size() / 3));
+  engine::writeFileAtomic(d + "/noise.replay", std::string("\x89\x01\xffgarbage\0\x02", 12));
+  for (const char* f : {"flipped", "short", "noise"}) {
+    const CliRun r = run("replay " + d + "/" + f + ".replay --verify");
+    EXPECT_EQ(r.code, 2) << f << ": " << r.out;
+    EXPECT_NE(r.out.find(std::string(f) + ".replay"), std::string::npos) << r.out;
+  }
+}
+
+TEST(Cli, FramesAndVideoAreWritten) {
+  const std::string d = tempDir("frames");
+  const CliRun r = run("play levels/steps --seconds 0.5 --fps 20 --frames " + d + "/png --video " + d + "/v.mp4 --summary " +
+                    d + "/summary.txt");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(d + "/png/frame_000000.png"));
+  EXPECT_TRUE(fs::exists(d + "/png/frame_000010.png"));  // 0.5 s at 20 fps: frames 0..10
+  EXPECT_GT(fs::file_size(d + "/v.mp4"), 1000u);
+  EXPECT_NE(engine::readFile(d + "/summary.txt").find("outcome    alive"), std::string::npos);
+}
+
+TEST(Cli, FailedOutputLeavesNoHalfWrittenFile) {
+  const std::string d = tempDir("nofile");
+  const CliRun r = run("play levels/flat --seconds 0.2 --record " + d + "/missing/dir/run.replay");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_TRUE(fs::is_empty(d));
+}

@@ -1,0 +1,113 @@
+// level_test.cpp — the TOML level loader and the 2D layer built from it.
+#include "levels/level.h"
+
+#include <gtest/gtest.h>
+
+#include "engine/core/error.h"
+#include "engine/plane/plane_world.h"
+
+namespace {
+
+const std::string kSource = TREELEARN_SOURCE_DIR;
+
+std::string errorOf(const std::string& text) {
+  try {
+    levels::parseLevel(text, "x.toml");
+  } catch (const engine::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(LevelLoader, ShippedLevelsLoad) {
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  EXPECT_EQ(flat.name, "flat");
+  EXPECT_TRUE(flat.boxes.empty());
+  const levels::Level steps = levels::loadLevel(kSource + "/levels/steps");
+  EXPECT_EQ(steps.name, "steps");
+  EXPECT_GE(steps.boxes.size(), 7u);
+}
+
+TEST(LevelLoader, StairsExpandIntoColumnsUpAndDown) {
+  const levels::Level l = levels::parseLevel(R"(name = "s"
+[[stairs]]
+start = [1.0, 0.5]
+steps = 3
+rise = 0.1
+run = 0.3
+width = 2.0
+down = true
+)", "s.toml");
+  // 3 up (0.1, 0.2, 0.3 m high) + 2 down (0.2, 0.1)
+  ASSERT_EQ(l.boxes.size(), 5u);
+  EXPECT_NEAR(l.boxes[0].size.z(), 0.1, 1e-12);
+  EXPECT_NEAR(l.boxes[0].centre.x(), 1.15, 1e-12);  // first tread spans x 1.0..1.3
+  EXPECT_NEAR(l.boxes[2].size.z(), 0.3, 1e-12);
+  EXPECT_NEAR(l.boxes[3].size.z(), 0.2, 1e-12);
+  EXPECT_NEAR(l.boxes[3].centre.x(), 2.05, 1e-12);  // after three treads: 1.9..2.2
+  EXPECT_NEAR(l.boxes[4].centre.y(), 0.5, 1e-12);
+  EXPECT_NEAR(l.boxes[4].size.y(), 2.0, 1e-12);
+}
+
+TEST(LevelLoader, UnknownKeyReportsItsLine) {
+  const std::string e = errorOf("name = \"a\"\n\n[[box]]\ncentre = [0, 0, 0.5]\nsize = [1, 1, 1]\ncolur = \"#ffffff\"\n");
+  EXPECT_NE(e.find("x.toml:6: unknown key 'colur'"), std::string::npos) << e;
+}
+
+TEST(LevelLoader, NegativeSizeIsRejected) {
+  const std::string e = errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0, 0.5]\nsize = [1, -1, 1]\n");
+  EXPECT_NE(e.find("x.toml:4:"), std::string::npos) << e;
+}
+
+TEST(LevelLoader, WrongTypeIsRejected) {
+  EXPECT_NE(errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0, 0.5]\nsize = \"big\"\n").find("x.toml:4:"), std::string::npos);
+  EXPECT_NE(errorOf("name = \"a\"\ntime_limit = \"soon\"\n").find("x.toml:2:"), std::string::npos);
+  EXPECT_NE(errorOf("name = 5\n").find("x.toml:1:"), std::string::npos);
+}
+
+TEST(LevelLoader, SyntaxErrorAndTruncationReportALine) {
+  EXPECT_NE(errorOf("name = \"a\"\n[[box]\n").find("x.toml:2:"), std::string::npos) << errorOf("name = \"a\"\n[[box]\n");
+  EXPECT_NE(errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0,").find("x.toml:3:"), std::string::npos);
+}
+
+TEST(LevelLoader, MissingNameAndBadColourAreRejected) {
+  EXPECT_NE(errorOf("plane = \"side\"\n").find("missing 'name"), std::string::npos);
+  EXPECT_NE(errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0, 0.5]\nsize = [1, 1, 1]\ncolour = \"red\"\n").find("x.toml:5:"),
+            std::string::npos);
+  EXPECT_NE(errorOf("name = \"a\"\nplane = \"diagonal\"\n").find("x.toml:2:"), std::string::npos);
+}
+
+TEST(LevelLoader, MissingFileIsAnError) { EXPECT_THROW(levels::loadLevel(kSource + "/levels/nonexistent"), engine::Error); }
+
+TEST(PlaneWorld, RayCastHitsTheWallPlacedInTheLevelFile) {
+  // levels/steps is a side-view level: its boxes become (x, z) rectangles. A ray at z = 1.0 passes over the
+  // crates and stairs (tallest 0.5 m) and stops at the wall, whose near face is at x = 12.0 - 0.1 = 11.9.
+  const levels::Level steps = levels::loadLevel(kSource + "/levels/steps");
+  engine::PlaneWorld plane;
+  int wall = -1;
+  for (size_t i = 0; i < steps.boxes.size(); ++i) {
+    const levels::BoxDef& b = steps.boxes[i];
+    plane.addStaticRect({b.centre.x(), b.centre.z()}, {0.5 * b.size.x(), 0.5 * b.size.z()}, 0.0, int(i));
+    if (b.name == "wall") wall = int(i);
+  }
+  ASSERT_GE(wall, 0);
+  const engine::RayHit hit = plane.rayCast({0.0, 1.0}, {20.0, 1.0});
+  ASSERT_TRUE(hit.hit);
+  EXPECT_EQ(hit.tag, wall);
+  EXPECT_NEAR(hit.point.x(), 11.9, 1e-3);
+  EXPECT_NEAR(hit.normal.x(), -1.0, 1e-5);
+  // lower down, the same ray meets the first crate (x 1.75..2.25; the side plane ignores y) first
+  EXPECT_NEAR(plane.rayCast({0.0, 0.3}, {20.0, 0.3}).point.x(), 1.75, 1e-3);
+  EXPECT_FALSE(plane.rayCast({0.0, 2.0}, {20.0, 2.0}).hit);
+}
+
+TEST(PlaneWorld, ProximityQueryFindsOnlyNearbyShapes) {
+  engine::PlaneWorld plane;
+  plane.addStaticRect({2.0, 0.0}, {0.5, 0.5}, 0.0, 7);
+  plane.addStaticRect({10.0, 0.0}, {0.5, 0.5}, 0.0, 9);
+  EXPECT_EQ(plane.queryCircle({0.0, 0.0}, 1.6), std::vector<int>{7});  // edge at x = 1.5
+  EXPECT_TRUE(plane.queryCircle({0.0, 0.0}, 1.4).empty());
+  EXPECT_EQ(plane.queryCircle({6.0, 0.0}, 4.6), (std::vector<int>{7, 9}));
+}
