@@ -102,8 +102,15 @@ struct PlayArgs {
   OutputOptions out;
 };
 
+// creates the folder an output file goes into, so `--video out/run.mp4` works on a fresh clone
+void makeParentDirectory(const std::string& file) {
+  const std::filesystem::path parent = std::filesystem::path(file).parent_path();
+  if (!file.empty() && !parent.empty()) engine::makeDirectories(parent.string());
+}
+
 int cmdPlay(const PlayArgs& a) {
   const levels::Level level = levels::loadLevel(a.level);
+  for (const std::string* f : {&a.record, &a.summary, &a.out.videoPath}) makeParentDirectory(*f);
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   if (a.autopilot) throw engine::Error("--autopilot: no autopilot yet (it arrives with the Mario level)");
   if (!a.expect.empty() && a.expect != "alive" && a.expect != "win")
@@ -161,6 +168,7 @@ struct ReplayArgs {
 
 int cmdReplay(const ReplayArgs& a) {
   const engine::Replay replay = engine::loadReplay(a.file);
+  makeParentDirectory(a.out.videoPath);
   const levels::Level level = levels::loadLevel(replay.level);
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   if (level.hash != replay.levelHash)

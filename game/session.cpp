@@ -114,12 +114,13 @@ uint64_t Session::stateHash() const {
 
 std::string Session::hudLine() const {
   const engine::CommandState& c = input_.state();
-  char buf[256];
+  char buf[160];
   const std::string keys = engine::keysHeldString(c);
+  // until skill models exist the standing controller runs; a request shows as "stand<3"
   std::string skill = "stand";
-  if (c.skillRequest >= 0) skill = "stand (key " + std::to_string(c.skillRequest) + ": no skill model yet)";
-  std::snprintf(buf, sizeof buf, "T %6.2fs  SKILL %s  KEYS %s  CMD vx %+.2f vy %+.2f wz %+.2f%s", seconds(),
-                skill.c_str(), keys.empty() ? "-" : keys.c_str(), c.vx, c.vy, c.wz, fallen_ ? "  FALLEN" : "");
+  if (c.skillRequest >= 0) skill += "<" + std::to_string(c.skillRequest);
+  std::snprintf(buf, sizeof buf, "T %.2f  %s  keys %s  v %+.1f %+.1f w %+.1f%s", seconds(), skill.c_str(),
+                keys.empty() ? "-" : keys.c_str(), c.vx, c.vy, c.wz, fallen_ ? "  FALLEN" : "");
   return buf;
 }
 

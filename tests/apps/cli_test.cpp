@@ -105,6 +105,13 @@ TEST(Cli, CorruptedAndTruncatedReplaysAreRejected) {
   }
 }
 
+TEST(Cli, OutputFoldersAreCreated) {
+  const std::string d = tempDir("mkdir");
+  const CliRun r = run("play levels/flat --seconds 0.2 --summary " + d + "/a/b/summary.txt");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(d + "/a/b/summary.txt"));
+}
+
 TEST(Cli, FramesAndVideoAreWritten) {
   const std::string d = tempDir("frames");
   const CliRun r = run("play levels/steps --seconds 0.5 --fps 20 --frames " + d + "/png --video " + d + "/v.mp4 --summary " +
@@ -118,7 +125,13 @@ TEST(Cli, FramesAndVideoAreWritten) {
 
 TEST(Cli, FailedOutputLeavesNoHalfWrittenFile) {
   const std::string d = tempDir("nofile");
-  const CliRun r = run("play levels/flat --seconds 0.2 --record " + d + "/missing/dir/run.replay");
+  // the replay path is an existing folder: the atomic rename fails and no temp file is left behind
+  fs::create_directories(d + "/taken.replay");
+  const CliRun r = run("play levels/flat --seconds 0.2 --record " + d + "/taken.replay");
   EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_TRUE(fs::is_empty(d));
+  EXPECT_NE(r.out.find("taken.replay"), std::string::npos) << r.out;
+  size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(d)) entries += e.path().filename() != "taken.replay";
+  EXPECT_EQ(entries, 0u);
+  EXPECT_TRUE(fs::is_empty(d + "/taken.replay"));
 }

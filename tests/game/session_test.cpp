@@ -95,8 +95,8 @@ TEST(Session, KeysReachTheCommandStateAndTheHud) {
   for (int i = 0; i < 9; ++i) s.step({});
   EXPECT_EQ(s.command().skillRequest, 3);
   EXPECT_NEAR(s.command().vx, 0.2, 1e-9);  // 10 ticks x 0.02 m/s per tick
-  EXPECT_NE(s.hudLine().find("key 3"), std::string::npos) << s.hudLine();
-  EXPECT_NE(s.hudLine().find("KEYS W"), std::string::npos) << s.hudLine();
+  EXPECT_NE(s.hudLine().find("stand<3"), std::string::npos) << s.hudLine();
+  EXPECT_NE(s.hudLine().find("keys W"), std::string::npos) << s.hudLine();
   EXPECT_NEAR(s.seconds(), 0.10, 1e-12);
 }
 
