@@ -9,7 +9,7 @@ packages=(
   build-essential cmake pkg-config git
   libbullet-dev libbox2d-dev libeigen3-dev liburdfdom-dev libtinyxml2-dev
   libosmesa6-dev libpng-dev libstb-dev
-  libtomlplusplus-dev libcli11-dev
+  libtomlplusplus-dev libcli11-dev libonnx-dev libprotobuf-dev protobuf-compiler
   libgtest-dev libgmock-dev libbenchmark-dev
   ffmpeg
 )
