@@ -6,11 +6,12 @@
 
 namespace robot {
 
-Robot::Robot(const RobotModel& model, engine::PhysicsWorld& world, double x, double y, double yaw) : model_(model) {
+Robot::Robot(const RobotModel& model, engine::PhysicsWorld& world, double x, double y, double yaw, double friction)
+    : model_(model) {
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
   base.translation() = Eigen::Vector3d(x, y, model.spawnHeight + 0.001);  // 1 mm gap: no initial penetration
   base.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  id_ = world.addArticulation(model.articulation, base, 1.0);
+  id_ = world.addArticulation(model.articulation, base, friction);
   command_ = standingCommand(model);
   teleport(world, base, command_.target);
 }

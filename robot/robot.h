@@ -39,7 +39,7 @@ struct Sensors {
 class Robot {
  public:
   /// Adds the robot to the world with the pelvis at (x, y, spawn height) facing yaw, joints at the default pose.
-  Robot(const RobotModel& model, engine::PhysicsWorld& world, double x, double y, double yaw);
+  Robot(const RobotModel& model, engine::PhysicsWorld& world, double x, double y, double yaw, double friction = 1.0);
 
   /// The command applied by applyPd() from now on.
   void setCommand(const PdCommand& command) { command_ = command; }

@@ -1,0 +1,211 @@
+// skill_env.cpp — the training environment of a skill.
+#include "ai/env/skill_env.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "engine/loop/clock.h"
+#include "game/session.h"
+
+namespace ai {
+namespace {
+
+// a double in [0, 1) from 53 random bits (portable across standard libraries)
+double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
+
+}  // namespace
+
+struct SkillEnv::Env {
+  robot::RobotModel model;  // a copy: the base mass is randomised per episode
+  std::unique_ptr<engine::PhysicsWorld> world;
+  std::unique_ptr<robot::Robot> robot;
+  std::mt19937_64 rng;
+  robot::Sensors sensors;
+  robot::SkillCommand command;
+  robot::PhaseClock phase;
+  std::array<float, robot::kActionSize> action{}, previousAction{};
+  int tick = 0, nextCommandTick = 0, nextPushTick = 0;
+  double episodeReturn = 0;
+  std::vector<double> termSums;
+  double physicsSeconds = 0;
+  // per-step outputs
+  float reward = 0;
+  uint8_t terminated = 0, truncated = 0;
+  float finishedReturn = 0;
+  int finishedLength = 0;
+  std::array<float, robot::kObservationSize> finalObservation{};
+};
+
+SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
+                   const SkillEnvOptions& options)
+    : model_(model), skill_(skill), terms_(resolveRewardTerms(skill, treePath)), options_(options),
+      pool_(options.threads) {
+  for (int i = 0; i < options.numEnvs; ++i) {
+    envs_.push_back(std::make_unique<Env>());
+    envs_.back()->model = model_;
+    envs_.back()->termSums.assign(terms_.size(), 0.0);
+  }
+}
+
+SkillEnv::~SkillEnv() = default;
+
+std::vector<std::string> SkillEnv::rewardTermNames() const {
+  std::vector<std::string> names;
+  for (const WeightedTerm& t : terms_) names.push_back(t.term->name);
+  return names;
+}
+
+double SkillEnv::physicsSeconds() const {
+  double s = 0;
+  for (const auto& e : envs_) s += e->physicsSeconds;
+  return s;
+}
+
+// commands follow the keyboard's interlock: one of vx, vy, wz non-zero, or all zero
+void SkillEnv::sampleCommand(Env& e) {
+  const robot::CommandDef& c = skill_.commands;
+  e.command = robot::SkillCommand{};
+  const double pick = unit(e.rng);
+  if (pick >= c.zeroProbability) {
+    const double which = (pick - c.zeroProbability) / (1.0 - c.zeroProbability);
+    if (which < 0.5) e.command.vx = uniform(e.rng, c.vx);
+    else if (which < 0.75) e.command.vy = uniform(e.rng, c.vy);
+    else e.command.wz = uniform(e.rng, c.wz);
+  }
+  e.nextCommandTick = e.tick + int(std::lround(c.resampleSeconds / engine::kTickSeconds));
+}
+
+void SkillEnv::resetEnv(Env& e) {
+  const robot::RandomisationDef& r = skill_.randomisation;
+  double friction = 1.0;
+  e.model.articulation.base.mass = model_.articulation.base.mass;
+  if (options_.randomise) {
+    friction = uniform(e.rng, r.friction);
+    e.model.articulation.base.mass += uniform(e.rng, r.addedMass);
+  }
+  e.robot.reset();
+  e.world = std::make_unique<engine::PhysicsWorld>();
+  e.world->addGround(friction);
+  const double yaw = M_PI * (2.0 * unit(e.rng) - 1.0);
+  e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0.0, 0.0, yaw, friction);
+  robot::JointArray q = e.robot->command().target;
+  for (double& v : q) v += 0.02 * (2.0 * unit(e.rng) - 1.0);
+  e.robot->teleport(*e.world, e.robot->linkPose(*e.world, -1), q);
+  e.sensors = e.robot->sense(*e.world);
+  e.tick = 0;
+  e.phase = robot::PhaseClock{};
+  e.action.fill(0.0f);
+  e.previousAction.fill(0.0f);
+  e.episodeReturn = 0;
+  sampleCommand(e);
+  const double pushEvery = r.pushEverySeconds;
+  e.nextPushTick = options_.randomise && pushEvery > 0
+                       ? int(std::lround((0.5 + unit(e.rng)) * pushEvery / engine::kTickSeconds))
+                       : INT32_MAX;
+}
+
+void SkillEnv::observe(const Env& e, float* out) const {
+  double s, c;
+  robot::phaseSignal(e.phase.tp, skill_.prior.halfPeriodTicks, &s, &c);
+  robot::Observation o;
+  robot::buildObservation(e.sensors, model_, e.action, e.command, s, c, &o);
+  std::copy(o.begin(), o.end(), out);
+}
+
+void SkillEnv::reset(uint64_t seed, Eigen::MatrixXf* observations) {
+  observations->resize(robot::kObservationSize, numEnvs());
+  std::mt19937_64 seeder(seed);
+  for (auto& e : envs_) e->rng.seed(seeder());
+  pool_.parallelFor(numEnvs(), [&](int i) {
+    resetEnv(*envs_[size_t(i)]);
+    observe(*envs_[size_t(i)], observations->col(i).data());
+  });
+}
+
+void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
+  const int n = numEnvs();
+  const int maxTicks = int(std::lround(skill_.termination.episodeSeconds / engine::kTickSeconds));
+  const double maxTilt = skill_.termination.maxTiltDegrees * M_PI / 180.0;
+  result->observations.resize(robot::kObservationSize, n);
+  result->finalObservations.resize(robot::kObservationSize, n);
+
+  pool_.parallelFor(n, [&](int i) {
+    Env& e = *envs_[size_t(i)];
+    e.previousAction = e.action;
+    for (size_t j = 0; j < size_t(robot::kActionSize); ++j)
+      e.action[j] = float(std::clamp(double(actions(Eigen::Index(j), i)), -robot::kActionClip, robot::kActionClip));
+
+    // control: targets from action + prior, then the physics substeps with PD every substep
+    e.phase.advance(skill_.prior.halfPeriodTicks);
+    robot::PdCommand pd;
+    robot::skillPdCommand(e.model, skill_, e.action, e.phase.tp, e.command, &pd);
+    e.robot->setCommand(pd);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < game::kSubsteps; ++k) {
+      e.robot->applyPd(*e.world);
+      e.world->step(game::kSubstepSeconds);
+    }
+    e.physicsSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    e.sensors = e.robot->sense(*e.world);
+    ++e.tick;
+
+    // reward
+    RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction};
+    double reward = 0;
+    for (size_t k = 0; k < terms_.size(); ++k) {
+      const double v = terms_[k].weight * terms_[k].term->value(ctx);
+      e.termSums[k] = v;
+      reward += v;
+    }
+    e.reward = float(reward);
+    e.episodeReturn += reward;
+
+    // disturbances and command changes for the next tick
+    if (e.tick >= e.nextPushTick) {
+      engine::ArticulationState s;
+      e.world->readState(e.robot->id(), &s);
+      const double angle = 2.0 * M_PI * unit(e.rng), speed = uniform(e.rng, skill_.randomisation.pushSpeed);
+      s.baseLinearVelocity += Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0) * speed;
+      e.world->setState(e.robot->id(), s);
+      e.nextPushTick = e.tick + int(std::lround(skill_.randomisation.pushEverySeconds / engine::kTickSeconds));
+    }
+    if (e.tick >= e.nextCommandTick) sampleCommand(e);
+
+    // episode end: a fall terminates, the time limit truncates
+    const bool fell = std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||
+                      e.sensors.basePosition.z() < skill_.termination.minHeight;
+    e.terminated = fell;
+    e.truncated = !fell && e.tick >= maxTicks;
+    if (e.terminated || e.truncated) {
+      observe(e, e.finalObservation.data());
+      e.finishedReturn = float(e.episodeReturn);
+      e.finishedLength = e.tick;
+      resetEnv(e);
+    }
+    observe(e, result->observations.col(i).data());
+  });
+
+  // gather in environment order (independent of threading)
+  result->rewards.resize(n);
+  result->terminated.assign(size_t(n), 0);
+  result->truncated.assign(size_t(n), 0);
+  result->episodeReturns.clear();
+  result->episodeLengths.clear();
+  result->rewardTermSums.assign(terms_.size(), 0.0);
+  for (int i = 0; i < n; ++i) {
+    const Env& e = *envs_[size_t(i)];
+    result->rewards[i] = e.reward;
+    result->terminated[size_t(i)] = e.terminated;
+    result->truncated[size_t(i)] = e.truncated;
+    if (e.truncated)
+      for (int k = 0; k < robot::kObservationSize; ++k) result->finalObservations(k, i) = e.finalObservation[size_t(k)];
+    if (e.terminated || e.truncated) {
+      result->episodeReturns.push_back(e.finishedReturn);
+      result->episodeLengths.push_back(e.finishedLength);
+    }
+    for (size_t k = 0; k < terms_.size(); ++k) result->rewardTermSums[k] += e.termSums[k];
+  }
+}
+
+}  // namespace ai

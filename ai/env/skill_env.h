@@ -1,0 +1,60 @@
+// skill_env.h — N G1 environments for training one skill (a VecEnv): each its own Bullet world, stepped on
+// all cores. Per step: action -> PD targets with the skill's prior -> 5 physics substeps -> reward terms,
+// fall/time-out checks, automatic reset. Commands, pushes and randomisation come from the skill-tree entry.
+#pragma once
+
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "ai/env/vec_env.h"
+#include "ai/env/worker_pool.h"
+#include "ai/rewards/reward_terms.h"
+#include "robot/skill_controller.h"
+
+namespace ai {
+
+struct SkillEnvOptions {
+  int numEnvs = 20;
+  int threads = 2;
+  bool randomise = true;  ///< friction, added mass and pushes as the skill says (off = nominal robot, no pushes)
+};
+
+/// Statistics of one environment's current episode, for evaluation.
+struct EpisodeStats {
+  int ticks = 0;
+  double speedErrorSum = 0;  ///< sum over ticks of |v_xy - v_cmd_xy| [m/s]
+  double yawErrorSum = 0;    ///< sum over ticks of |wz - wz_cmd| [rad/s]
+};
+
+class SkillEnv final : public VecEnv {
+ public:
+  SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
+           const SkillEnvOptions& options);
+  ~SkillEnv() override;
+
+  int numEnvs() const override { return int(envs_.size()); }
+  int observationSize() const override { return robot::kObservationSize; }
+  int actionSize() const override { return robot::kActionSize; }
+  std::vector<std::string> rewardTermNames() const override;
+  void reset(uint64_t seed, Eigen::MatrixXf* observations) override;
+  void step(const Eigen::MatrixXf& actions, StepResult* result) override;
+
+  /// Seconds spent inside physics (substeps) during step() calls so far, summed over threads.
+  double physicsSeconds() const;
+
+ private:
+  struct Env;
+  void resetEnv(Env& e);
+  void sampleCommand(Env& e);
+  void observe(const Env& e, float* out) const;
+
+  robot::RobotModel model_;
+  robot::SkillDef skill_;
+  std::vector<WeightedTerm> terms_;
+  SkillEnvOptions options_;
+  WorkerPool pool_;
+  std::vector<std::unique_ptr<Env>> envs_;
+};
+
+}  // namespace ai

@@ -1,0 +1,41 @@
+// reward_terms.h — the reward as a table of named terms (paper Table 1 plus preference terms). A skill's
+// entry in the tree file picks terms by name and weights them; unknown names fail at load with file:line.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "robot/skill_layout.h"
+#include "robot/skill_tree.h"
+
+namespace ai {
+
+/// Everything a reward term may look at after a control tick.
+struct RewardContext {
+  const robot::Sensors* sensors = nullptr;
+  const robot::SkillCommand* command = nullptr;
+  const std::array<float, robot::kActionSize>* action = nullptr;          ///< clipped policy output this tick
+  const std::array<float, robot::kActionSize>* previousAction = nullptr;  ///< the tick before
+};
+
+/// A named term: value(context), unweighted.
+struct RewardTerm {
+  const char* name;
+  double (*value)(const RewardContext&);
+  const char* formula;  ///< for documentation and logs
+};
+
+/// Every term the tree file may use.
+const std::vector<RewardTerm>& rewardTermTable();
+
+/// A skill's terms with their weights (by name, alphabetical).
+struct WeightedTerm {
+  const RewardTerm* term;
+  double weight;
+};
+
+/// Resolves the skill's reward names against the table; throws engine::Error "tree.toml:line: unknown reward term".
+std::vector<WeightedTerm> resolveRewardTerms(const robot::SkillDef& skill, const std::string& treePath);
+
+}  // namespace ai

@@ -1,0 +1,54 @@
+// skill_controller.cpp — action + prior -> PD targets.
+#include "robot/skill_controller.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace robot {
+namespace {
+
+// leg joint indices in kJointNames order
+constexpr size_t kLeftHipPitch = 0, kLeftKnee = 3, kLeftAnklePitch = 4;
+constexpr size_t kRightHipPitch = 6, kRightKnee = 9, kRightAnklePitch = 10;
+
+}  // namespace
+
+void phaseActivation(int tp, int t1, double* u1, double* u2) {
+  *u1 = *u2 = 0.0;
+  if (tp > 0 && tp <= t1) *u1 = 0.5 * (1.0 - std::cos(2.0 * M_PI * tp / t1));
+  else if (tp > t1) *u2 = 0.5 * (1.0 - std::cos(2.0 * M_PI * (tp - t1) / t1));
+}
+
+void phaseSignal(int tp, int t1, double* s, double* c) {
+  *s = std::sin(M_PI * tp / t1);
+  *c = std::cos(M_PI * tp / t1);
+}
+
+bool commandIsZero(const SkillCommand& c) { return c.vx == 0.0 && c.vy == 0.0 && c.wz == 0.0; }
+
+void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action, int tp,
+                    const SkillCommand& command, PdCommand* out) {
+  for (size_t j = 0; j < size_t(kNumJoints); ++j) {
+    const double a = std::clamp(double(action[j]), -kActionClip, kActionClip);
+    out->target[j] = model.joints[j].defaultPosition + skill.actionScale[j] * a;
+    out->kp[j] = skill.kp[j];
+    out->kd[j] = skill.kd[j];
+  }
+  if (skill.prior.kind == PriorDef::Kind::Phase) {
+    double u1, u2;
+    phaseActivation(tp, skill.prior.halfPeriodTicks, &u1, &u2);
+    const double dh = skill.prior.standStill && commandIsZero(command) ? 0.0 : skill.prior.dh;
+    const double left = dh * u1 + skill.prior.d0, right = dh * u2 + skill.prior.d0;
+    // hip pitch forward (negative), knee bends twice as much, ankle keeps the foot level
+    out->target[kLeftHipPitch] -= left;
+    out->target[kLeftKnee] += 2.0 * left;
+    out->target[kLeftAnklePitch] -= left;
+    out->target[kRightHipPitch] -= right;
+    out->target[kRightKnee] += 2.0 * right;
+    out->target[kRightAnklePitch] -= right;
+  }
+  for (size_t j = 0; j < size_t(kNumJoints); ++j)
+    out->target[j] = std::clamp(out->target[j], model.joints[j].lower, model.joints[j].upper);
+}
+
+}  // namespace robot

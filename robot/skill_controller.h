@@ -1,0 +1,33 @@
+// skill_controller.h — turns a skill's policy output into PD targets: default pose + action scale x action
+// + the skill's feed-forward prior (paper §3.1). Shared by training environments and the play runtime so a
+// skill behaves identically in both.
+#pragma once
+
+#include <array>
+
+#include "robot/skill_layout.h"
+#include "robot/skill_tree.h"
+
+namespace robot {
+
+/// The gait counter tp of the phase prior: counts control ticks 1..2 T1, then wraps.
+struct PhaseClock {
+  int tp = 0;
+  /// Advances one tick.
+  void advance(int halfPeriodTicks) { tp = tp >= 2 * halfPeriodTicks ? 1 : tp + 1; }
+};
+
+/// Left/right activation u1, u2 in [0, 1] of the cosine phase prior at counter tp.
+void phaseActivation(int tp, int halfPeriodTicks, double* u1, double* u2);
+
+/// sin and cos of the gait phase pi tp / T1 (one cycle = 2 T1 ticks), for the observation.
+void phaseSignal(int tp, int halfPeriodTicks, double* s, double* c);
+
+/// True when every motion command is zero (the walk's "stand still" case).
+bool commandIsZero(const SkillCommand& c);
+
+/// PD command for this tick: target = default + scale * clip(action) + prior; gains from the skill.
+void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action,
+                    int tp, const SkillCommand& command, PdCommand* out);
+
+}  // namespace robot

@@ -1,0 +1,25 @@
+// skill_layout.cpp — writes the shared observation layout.
+#include "robot/skill_layout.h"
+
+namespace robot {
+
+void buildObservation(const Sensors& s, const RobotModel& model, const std::array<float, kActionSize>& previousAction,
+                      const SkillCommand& c, double phaseSin, double phaseCos, Observation* out) {
+  Observation& o = *out;
+  for (int i = 0; i < 3; ++i) {
+    o[size_t(kObsGravity + i)] = float(s.projectedGravity[i]);
+    o[size_t(kObsAngularVelocity + i)] = float(s.angularVelocity[i]);
+    o[size_t(kObsLinearVelocity + i)] = float(s.linearVelocity[i]);
+  }
+  for (size_t j = 0; j < size_t(kNumJoints); ++j) {
+    o[size_t(kObsJointPosition) + j] = float(s.q[j] - model.joints[j].defaultPosition);
+    o[size_t(kObsJointVelocity) + j] = float(s.qd[j]);
+    o[size_t(kObsPreviousAction) + j] = previousAction[j];
+  }
+  const double command[kNumCommandSlots] = {c.vx, c.vy, c.wz, c.amplitude, c.aux0, c.aux1};
+  for (int i = 0; i < kNumCommandSlots; ++i) o[size_t(kObsCommand + i)] = float(command[i]);
+  o[size_t(kObsPhase)] = float(phaseSin);
+  o[size_t(kObsPhase + 1)] = float(phaseCos);
+}
+
+}  // namespace robot

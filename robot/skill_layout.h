@@ -1,0 +1,55 @@
+// skill_layout.h — THE observation and action layout shared by all 11 skills (DESIGN.md §3). Every skill
+// network reads kObservationSize floats in this order and writes kActionSize; ONNX metadata records it.
+// Changing anything here invalidates every trained model: bump kLayoutVersion.
+#pragma once
+
+#include <array>
+
+#include "robot/robot.h"
+
+namespace robot {
+
+/// Version of this layout, stored in every skill file.
+constexpr int kLayoutVersion = 1;
+
+//-------------------------------- observation ------------------------------------------------------
+// index range      content                                      units
+//  0 ..  2         projected gravity in the pelvis frame         unit vector
+//  3 ..  5         pelvis angular velocity, pelvis frame         rad/s
+//  6 ..  8         pelvis linear velocity, pelvis frame          m/s
+//  9 .. 31         joint position minus default pose (23)        rad
+// 32 .. 54         joint velocity (23)                           rad/s
+// 55 .. 77         previous action (23)                          policy units
+// 78 .. 83         commands: vx, vy, wz, amplitude, aux0, aux1   m/s, m/s, rad/s, 0..1, -, -
+// 84 .. 85         phase: sin, cos of the gait phase             -
+constexpr int kObsGravity = 0;
+constexpr int kObsAngularVelocity = 3;
+constexpr int kObsLinearVelocity = 6;
+constexpr int kObsJointPosition = 9;
+constexpr int kObsJointVelocity = kObsJointPosition + kNumJoints;
+constexpr int kObsPreviousAction = kObsJointVelocity + kNumJoints;
+constexpr int kObsCommand = kObsPreviousAction + kNumJoints;
+constexpr int kNumCommandSlots = 6;
+constexpr int kObsPhase = kObsCommand + kNumCommandSlots;
+constexpr int kObservationSize = kObsPhase + 2;
+
+//-------------------------------- action ----------------------------------------------------------
+// one channel per joint in kJointNames order; joint target = default + actionScale[j] * clamp(a, -kActionClip,
+// kActionClip) + prior[j]
+constexpr int kActionSize = kNumJoints;
+constexpr double kActionClip = 4.0;
+
+using Observation = std::array<float, kObservationSize>;
+
+/// The command slots a skill may read (unused slots stay 0).
+struct SkillCommand {
+  double vx = 0, vy = 0, wz = 0;  ///< m/s, m/s, rad/s
+  double amplitude = 0;           ///< 0..1 (e.g. squat depth)
+  double aux0 = 0, aux1 = 0;      ///< skill-specific
+};
+
+/// Fills an observation from sensors, the model's default pose, the previous action, command and phase.
+void buildObservation(const Sensors& s, const RobotModel& model, const std::array<float, kActionSize>& previousAction,
+                      const SkillCommand& command, double phaseSin, double phaseCos, Observation* out);
+
+}  // namespace robot

@@ -1,0 +1,118 @@
+// skill_controller_test.cpp — the phase prior and action mapping, with values worked by hand.
+#include "robot/skill_controller.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "engine/core/error.h"
+
+namespace {
+
+const std::string kSource = TREELEARN_SOURCE_DIR;
+
+const robot::RobotModel& model() {
+  static const robot::RobotModel m = robot::loadRobotModel(kSource + "/assets/robots/g1_23dof.toml");
+  return m;
+}
+
+}  // namespace
+
+TEST(PhasePrior, LeftLegPeaksMidFirstHalfThenRightLeg) {
+  double u1, u2;
+  // T1 = 40: tp = 20 is the middle of the left phase: (1 - cos(pi)) / 2 = 1
+  robot::phaseActivation(20, 40, &u1, &u2);
+  EXPECT_DOUBLE_EQ(u1, 1.0);
+  EXPECT_DOUBLE_EQ(u2, 0.0);
+  // tp = 10: (1 - cos(pi/2)) / 2 = 0.5
+  robot::phaseActivation(10, 40, &u1, &u2);
+  EXPECT_NEAR(u1, 0.5, 1e-12);
+  // tp = 60: right leg, (1 - cos(2 pi 20/40)) / 2 = 1
+  robot::phaseActivation(60, 40, &u1, &u2);
+  EXPECT_DOUBLE_EQ(u1, 0.0);
+  EXPECT_DOUBLE_EQ(u2, 1.0);
+}
+
+TEST(PhasePrior, ClockWrapsAfterTwoHalfPeriods) {
+  robot::PhaseClock c;
+  for (int i = 0; i < 80; ++i) c.advance(40);
+  EXPECT_EQ(c.tp, 80);
+  c.advance(40);
+  EXPECT_EQ(c.tp, 1);
+}
+
+TEST(SkillController, PriorBendsHipKneeAnkleAsThePaperSays) {
+  robot::SkillDef skill;
+  skill.prior.kind = robot::PriorDef::Kind::Phase;
+  skill.prior.halfPeriodTicks = 40;
+  skill.prior.dh = 0.5;
+  skill.prior.d0 = 0.1;
+  skill.kp.fill(10);
+  skill.kd.fill(1);
+  skill.actionScale.fill(0.25);
+  std::array<float, robot::kActionSize> action{};
+  action[12] = 2.0f;  // waist: 0 + 0.25 * 2 = 0.5 rad
+  robot::SkillCommand cmd;
+  cmd.vx = 0.5;
+  robot::PdCommand pd;
+  robot::skillPdCommand(model(), skill, action, 20, cmd, &pd);
+  // left leg at its peak: A = 0.5 * 1 + 0.1 = 0.6; right leg: B = 0.1
+  EXPECT_NEAR(pd.target[0], -0.1 - 0.6, 1e-12);   // hip pitch
+  EXPECT_NEAR(pd.target[3], 0.3 + 1.2, 1e-12);    // knee +2A
+  EXPECT_NEAR(pd.target[4], -0.2 - 0.6, 1e-12);   // ankle pitch
+  EXPECT_NEAR(pd.target[6], -0.1 - 0.1, 1e-12);   // right hip pitch
+  EXPECT_NEAR(pd.target[9], 0.3 + 0.2, 1e-12);
+  EXPECT_NEAR(pd.target[12], 0.5, 1e-12);
+  // standing still: dh is dropped when every command is zero
+  robot::skillPdCommand(model(), skill, action, 20, robot::SkillCommand{}, &pd);
+  EXPECT_NEAR(pd.target[0], -0.1 - 0.1, 1e-12);
+}
+
+TEST(SkillController, TargetsStayInsideJointLimits) {
+  robot::SkillDef skill;
+  skill.kp.fill(10);
+  skill.actionScale.fill(2.0);
+  std::array<float, robot::kActionSize> action;
+  action.fill(100.0f);  // clipped to kActionClip = 4 -> 8 rad, then to the limits
+  robot::PdCommand pd;
+  robot::skillPdCommand(model(), skill, action, 0, robot::SkillCommand{}, &pd);
+  for (size_t j = 0; j < size_t(robot::kNumJoints); ++j) EXPECT_DOUBLE_EQ(pd.target[j], model().joints[j].upper);
+}
+
+TEST(SkillTree, ShippedTreeLoadsWithWalkAsRoot) {
+  const robot::SkillTree tree = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", model());
+  const robot::SkillDef* walk = tree.find("walk");
+  ASSERT_NE(walk, nullptr);
+  EXPECT_EQ(walk->parent, "");
+  EXPECT_EQ(walk->key, 0);
+  EXPECT_EQ(walk->prior.halfPeriodTicks, 40);
+  EXPECT_DOUBLE_EQ(walk->kp[3], 150.0);       // knee
+  EXPECT_DOUBLE_EQ(walk->actionScale[13], 0.0);  // arms are held
+}
+
+TEST(SkillTree, BadEntriesAreLocated) {
+  const std::string dir = testing::TempDir() + "/tree_bad";
+  std::filesystem::create_directories(dir);
+  auto errorOf = [&](const std::string& text) -> std::string {
+    std::ofstream(dir + "/t.toml") << text;
+    try {
+      robot::loadSkillTree(dir + "/t.toml", model());
+    } catch (const engine::Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string gains = "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
+                            "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
+                            "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
+  EXPECT_NE(errorOf("[skill.walk]\nparent = \"\"\nkey = 0\nspeed = 3\n").find("t.toml:4: unknown key 'speed'"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[skill.walk]\nparent = \"\"\nkey = 12\n").find("t.toml:3:"), std::string::npos);
+  EXPECT_NE(errorOf("[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.gains]\nhips = [1, 1]\n").find("t.toml:5:"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[skill.walk]\nparent = \"nothing\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" + gains)
+                .find("unknown parent 'nothing'"),
+            std::string::npos);
+}
