@@ -32,4 +32,24 @@ MlpWeights makeMlp(const std::vector<int>& sizes, Activation activation, uint64_
 /// Forward pass only (inference): out = f(x), x is input x batch.
 void mlpForward(const MlpWeights& w, const Eigen::MatrixXf& x, Eigen::MatrixXf* out);
 
+/// What a training forward pass keeps for the backward pass. Reuse one cache across calls: its
+/// matrices keep their storage, so a steady batch size allocates nothing after the first call.
+struct MlpCache {
+  /// inputs[k] is the input of layer k (inputs[0] = x, inputs[k] = activation of hidden layer k-1).
+  std::vector<Eigen::MatrixXf> inputs;
+  /// Backward scratch (gradient w.r.t. a layer's pre-activation and its input); not part of the result.
+  mutable Eigen::MatrixXf gradA, gradB;
+};
+
+/// Training forward pass: out = f(x) as mlpForward, and fills cache for mlpBackward.
+void mlpForwardTrain(const MlpWeights& w, const Eigen::MatrixXf& x, MlpCache* cache, Eigen::MatrixXf* out);
+
+/// Backward pass for the cache of the last mlpForwardTrain: dOut = dLoss/dOut (output x batch). Writes
+/// dLoss/dW and dLoss/db summed over the batch columns into grads (resized to w's shapes). No gradient
+/// w.r.t. the input x is computed.
+void mlpBackward(const MlpWeights& w, const MlpCache& cache, const Eigen::MatrixXf& dOut, MlpWeights* grads);
+
+/// Zero-valued tensors with w's shapes and activation (for gradients and optimiser moments).
+MlpWeights zerosLike(const MlpWeights& w);
+
 }  // namespace ai

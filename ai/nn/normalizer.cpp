@@ -1,0 +1,64 @@
+// normalizer.cpp — running mean/variance (parallel batch update in double) and clamped normalisation.
+#include "ai/nn/normalizer.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "ai/nn/byte_io.h"
+
+namespace ai {
+
+RunningNormalizer::RunningNormalizer(int size, float clip)
+    : mean_(Eigen::VectorXd::Zero(size)), var_(Eigen::VectorXd::Ones(size)), clip_(clip) {
+  refreshCache();
+}
+
+void RunningNormalizer::update(const Eigen::MatrixXf& batch) {
+  if (batch.rows() != mean_.size()) throw std::invalid_argument("RunningNormalizer::update: wrong feature count");
+  const double n = double(batch.cols());
+  if (n == 0) return;
+
+  // batch moments in double, then Chan's combination of (mean, var, count) pairs
+  const Eigen::MatrixXd x = batch.cast<double>();
+  const Eigen::VectorXd batchMean = x.rowwise().mean();
+  const Eigen::VectorXd batchVar = (x.colwise() - batchMean).array().square().rowwise().sum().matrix() / n;
+  const double total = count_ + n;
+  const Eigen::VectorXd delta = batchMean - mean_;
+  mean_ += delta * (n / total);
+  const Eigen::VectorXd m2 = var_ * count_ + batchVar * n + delta.array().square().matrix() * (count_ * n / total);
+  var_ = m2 / total;
+  count_ = total;
+  refreshCache();
+}
+
+void RunningNormalizer::normalize(const Eigen::MatrixXf& x, Eigen::MatrixXf* out) const {
+  if (x.rows() != meanF_.size()) throw std::invalid_argument("RunningNormalizer::normalize: wrong feature count");
+  out->resize(x.rows(), x.cols());
+  out->array() = ((x.colwise() - meanF_).array().colwise() * invStdF_.array()).max(-clip_).min(clip_);
+}
+
+Eigen::VectorXf RunningNormalizer::stddev() const { return (var_.array() + kVarianceEpsilon).sqrt().matrix().cast<float>(); }
+
+void RunningNormalizer::refreshCache() {
+  meanF_ = mean_.cast<float>();
+  invStdF_ = (1.0 / (var_.array() + kVarianceEpsilon).sqrt()).matrix().cast<float>();
+}
+
+void RunningNormalizer::save(ByteWriter* out) const {
+  out->f32(clip_);
+  out->f64(count_);
+  out->vector(mean_);
+  out->vector(var_);
+}
+
+void RunningNormalizer::load(ByteReader* in) {
+  clip_ = in->f32();
+  count_ = in->f64();
+  mean_ = in->vectorD();
+  var_ = in->vectorD();
+  if (mean_.size() != var_.size()) in->fail("normaliser mean and variance differ in size");
+  if (!(count_ > 0) || !(clip_ > 0)) in->fail("normaliser count and clip must be positive");
+  refreshCache();
+}
+
+}  // namespace ai

@@ -1,0 +1,56 @@
+// normalizer.h — running per-feature mean and variance of observations (Chan et al.'s parallel update in
+// double, as gym's RunningMeanStd) and the clamped normalisation the actor and critic see. Updated only
+// while collecting training rollouts; frozen (read-only) in evaluation, play and the exported ONNX graph.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace ai {
+
+class ByteWriter;
+class ByteReader;
+
+class RunningNormalizer {
+ public:
+  /// Initial count: a small pseudo-count so the first batch all but replaces the prior (mean 0, var 1).
+  static constexpr double kInitialCount = 1e-4;
+  /// Added to the variance before the square root.
+  static constexpr double kVarianceEpsilon = 1e-8;
+
+  RunningNormalizer() = default;
+  /// size features; normalised values are clamped to [-clip, clip] (usually 5, as ML-Agents).
+  explicit RunningNormalizer(int size, float clip = 5.0f);
+
+  /// Folds a batch (size x batch, one column per sample) into the statistics.
+  void update(const Eigen::MatrixXf& batch);
+  /// out = clamp((x - mean) / sqrt(var + 1e-8), -clip, clip), column by column. out may not alias x.
+  void normalize(const Eigen::MatrixXf& x, Eigen::MatrixXf* out) const;
+
+  /// Number of features.
+  int size() const { return int(mean_.size()); }
+  /// Running mean per feature (float copy, for export).
+  Eigen::VectorXf mean() const { return mean_.cast<float>(); }
+  /// sqrt(var + 1e-8) per feature (float copy, for export).
+  Eigen::VectorXf stddev() const;
+  /// Running variance per feature (double).
+  const Eigen::VectorXd& variance() const { return var_; }
+  /// Samples seen, plus kInitialCount.
+  double count() const { return count_; }
+  /// Clamp range of normalised values.
+  float clip() const { return clip_; }
+
+  /// Appends the statistics.
+  void save(ByteWriter* out) const;
+  /// Reads what save wrote. Throws engine::Error on malformed data.
+  void load(ByteReader* in);
+
+ private:
+  void refreshCache();  // recomputes the float mean and 1/std used by normalize
+
+  Eigen::VectorXd mean_, var_;
+  double count_ = kInitialCount;
+  float clip_ = 5.0f;
+  Eigen::VectorXf meanF_, invStdF_;
+};
+
+}  // namespace ai

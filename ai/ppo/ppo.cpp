@@ -1,0 +1,210 @@
+// ppo.cpp — policy construction and the PPO update (clipped surrogate, value loss, entropy bonus), read top
+// to bottom: shuffle -> gather minibatch -> actor and critic forward -> losses and their gradients ->
+// backward -> finite check -> clip global norm -> Adam -> clamp log-std.
+#include "ai/ppo/ppo.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "ai/ppo/gaussian.h"
+
+namespace ai {
+namespace {
+
+uint64_t splitMix64(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+std::vector<int> layerSizes(int in, const std::vector<int>& hidden, int out) {
+  std::vector<int> sizes{in};
+  sizes.insert(sizes.end(), hidden.begin(), hidden.end());
+  sizes.push_back(out);
+  return sizes;
+}
+
+double lerp(double from, double to, double t) { return from + (to - from) * t; }
+
+}  // namespace
+
+PolicyState makePolicyState(const PpoConfig& config, int observationSize, int actionSize, uint64_t seed) {
+  PolicyState p;
+  p.actor = makeMlp(layerSizes(observationSize, config.actorHidden, actionSize), config.activation,
+                    splitMix64(seed ^ 0xAC7042ull), float(config.actorOutputGain));
+  p.critic = makeMlp(layerSizes(observationSize, config.criticHidden, 1), config.activation,
+                     splitMix64(seed ^ 0xC2171Cull), float(config.criticOutputGain));
+  // without normalisation the normaliser stays at its prior (mean 0, std 1 in float) and never clips
+  p.normalizer = RunningNormalizer(observationSize, config.normalizeObservations ? float(config.observationClip) : FLT_MAX);
+  p.logStd = Eigen::VectorXf::Constant(actionSize, float(config.initialLogStd));
+  return p;
+}
+
+void actDeterministic(const PolicyState& policy, const Eigen::MatrixXf& observations, Eigen::MatrixXf* actions) {
+  Eigen::MatrixXf normalised;
+  policy.normalizer.normalize(observations, &normalised);
+  mlpForward(policy.actor, normalised, actions);
+}
+
+PpoCoefficients scheduledCoefficients(const PpoConfig& config, double progress) {
+  const double t = std::clamp(progress, 0.0, 1.0);
+  PpoCoefficients c;
+  c.learningRate = lerp(config.learningRate, config.learningRateFinal, t);
+  c.epsilon = lerp(config.epsilon, config.epsilonFinal, t);
+  c.beta = lerp(config.beta, config.betaFinal, t);
+  return c;
+}
+
+PpoUpdater::PpoUpdater(const PpoConfig& config) : config_(config) {}
+
+PpoStats PpoUpdater::update(const RolloutBuffer& buffer, const PpoCoefficients& coefficients, std::mt19937_64* rng,
+                            PolicyState* policy) {
+  PpoStats stats;
+  const int total = buffer.size();
+  if (total <= 0) return stats;
+  const int batch = std::min(config_.batchSize, total);
+  const int minibatches = total / batch;
+  const Eigen::Index obsSize = buffer.observations.rows(), actSize = buffer.actions.rows();
+  mbObs_.resize(obsSize, batch);
+  mbActions_.resize(actSize, batch);
+  mbLogProbs_.resize(batch);
+  mbAdvantages_.resize(batch);
+  mbReturns_.resize(batch);
+  mbValues_.resize(batch);
+  permutation_.resize(size_t(total));
+
+  for (int epoch = 0; epoch < config_.numEpoch; ++epoch) {
+    // Fisher-Yates with our own index draw (std::shuffle's algorithm is library-specific)
+    std::iota(permutation_.begin(), permutation_.end(), 0);
+    for (int i = total - 1; i > 0; --i) std::swap(permutation_[size_t(i)], permutation_[size_t((*rng)() % uint64_t(i + 1))]);
+
+    for (int mb = 0; mb < minibatches; ++mb) {
+      // gather the minibatch columns
+      for (int j = 0; j < batch; ++j) {
+        const int i = permutation_[size_t(mb * batch + j)];
+        mbObs_.col(j) = buffer.observations.col(i);
+        mbActions_.col(j) = buffer.actions.col(i);
+        mbLogProbs_(j) = buffer.logProbs(i);
+        mbAdvantages_(j) = buffer.advantages.data()[i];
+        mbReturns_(j) = buffer.returns.data()[i];
+        mbValues_(j) = buffer.values.data()[i];
+      }
+      try {
+        minibatchStep(coefficients, policy, &stats);
+      } catch (const TrainingDiverged& e) {
+        throw TrainingDiverged(std::string(e.what()) + " (epoch " + std::to_string(epoch + 1) + ", minibatch " +
+                               std::to_string(mb + 1) + ")");
+      }
+    }
+  }
+
+  // means over the gradient steps, explained variance over the whole buffer
+  const double steps = std::max(1, stats.minibatches);
+  stats.policyLoss /= steps;
+  stats.valueLoss /= steps;
+  stats.entropy /= steps;
+  stats.approxKl /= steps;
+  stats.clipFraction /= steps;
+  stats.gradNorm /= steps;
+  const Eigen::ArrayXd ret = Eigen::Map<const Eigen::ArrayXf>(buffer.returns.data(), total).cast<double>();
+  const Eigen::ArrayXd val = Eigen::Map<const Eigen::ArrayXf>(buffer.values.data(), total).cast<double>();
+  const double varReturns = (ret - ret.mean()).square().mean();
+  const Eigen::ArrayXd residual = ret - val;
+  const double varResidual = (residual - residual.mean()).square().mean();
+  stats.explainedVariance = varReturns > 0 ? 1.0 - varResidual / varReturns : std::nan("");
+  return stats;
+}
+
+void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, PpoStats* stats) {
+  const Eigen::Index batch = mbObs_.cols();
+  const Eigen::Index dims = policy->logStd.size();
+  const float eps = float(c.epsilon);
+  const float invBatch = 1.0f / float(batch);
+
+  // advantages normalised within the minibatch (unbiased std, as torch.std)
+  if (config_.normalizeAdvantages && batch > 1) {
+    const Eigen::ArrayXd a = mbAdvantages_.cast<double>();
+    const double mean = a.mean();
+    const double stddev = std::sqrt((a - mean).square().sum() / double(batch - 1));
+    mbAdvantages_ = ((a - mean) / (stddev + 1e-8)).cast<float>();
+  }
+
+  // actor: new log-probabilities and the probability ratio
+  mlpForwardTrain(policy->actor, mbObs_, &actorCache_, &mean_);
+  const Eigen::ArrayXf invStd = (-policy->logStd.array()).exp();
+  z_ = (mbActions_ - mean_).array().colwise() * invStd;
+  const float logProbConstant = float(-double(policy->logStd.sum()) - 0.5 * double(dims) * kLog2Pi);
+  const Eigen::ArrayXf logRatio = (-0.5f * z_.square().colwise().sum()).transpose() + logProbConstant - mbLogProbs_;
+  const Eigen::ArrayXf ratio = logRatio.exp();
+
+  // clipped surrogate: L = -mean(min(r A, clip(r, 1-eps, 1+eps) A)); the gradient flows only where the
+  // unclipped term is the minimum
+  const Eigen::ArrayXf surr1 = ratio * mbAdvantages_;
+  const Eigen::ArrayXf surr2 = ratio.max(1.0f - eps).min(1.0f + eps) * mbAdvantages_;
+  const double policyLoss = -double(surr1.min(surr2).cast<double>().mean());
+  const Eigen::ArrayXf dLogProb = (surr1 <= surr2).select(-surr1 * invBatch, 0.0f);
+
+  // d logp / d mean_j = z_j / std_j; d logp / d logStd_j = z_j^2 - 1; the entropy bonus -beta * mean_j(logStd_j + c)
+  // adds -beta / D to every log-std gradient
+  dMean_ = ((z_.colwise() * invStd).rowwise() * dLogProb.transpose()).matrix();
+  grads_.logStd = (z_.square() - 1.0f).matrix() * dLogProb.matrix();
+  grads_.logStd.array() -= float(c.beta / double(dims));
+  const double entropy = gaussianEntropy(policy->logStd) / double(dims);
+
+  // critic: L_v = mean((V - R)^2), optionally PPO2-clipped around the rollout value
+  mlpForwardTrain(policy->critic, mbObs_, &criticCache_, &value_);
+  const Eigen::ArrayXf v = value_.row(0).transpose().array();
+  const Eigen::ArrayXf err = v - mbReturns_;
+  Eigen::ArrayXf dV;
+  double valueLoss;
+  if (config_.clipValueLoss) {
+    const Eigen::ArrayXf change = v - mbValues_;
+    const Eigen::ArrayXf errClipped = mbValues_ + change.max(-eps).min(eps) - mbReturns_;
+    const Eigen::ArrayXf inside = (change.abs() <= eps).cast<float>();
+    valueLoss = double(err.square().max(errClipped.square()).cast<double>().mean());
+    dV = (err.square() >= errClipped.square()).select(2.0f * err, 2.0f * errClipped * inside);
+  } else {
+    valueLoss = double(err.square().cast<double>().mean());
+    dV = 2.0f * err;
+  }
+  dValue_ = (dV * float(config_.valueLossCoef) * invBatch).matrix().transpose();
+
+  // backward through both networks
+  mlpBackward(policy->actor, actorCache_, dMean_, &grads_.actor);
+  mlpBackward(policy->critic, criticCache_, dValue_, &grads_.critic);
+
+  // one list of (parameter, gradient) views in a fixed order: actor, critic, log-std
+  paramRefs_.clear();
+  gradRefs_.clear();
+  appendTensors(&policy->actor, &paramRefs_);
+  appendTensors(&policy->critic, &paramRefs_);
+  appendTensor(&policy->logStd, &paramRefs_);
+  appendTensors(&grads_.actor, &gradRefs_);
+  appendTensors(&grads_.critic, &gradRefs_);
+  appendTensor(&grads_.logStd, &gradRefs_);
+
+  // refuse a non-finite step, then clip and apply
+  const double gradNorm = clipGradNorm(gradRefs_, config_.maxGradNorm);
+  if (!std::isfinite(policyLoss) || !std::isfinite(valueLoss) || !std::isfinite(gradNorm)) {
+    std::ostringstream m;
+    m << "training diverged: policy loss " << policyLoss << ", value loss " << valueLoss << ", gradient norm "
+      << gradNorm;
+    throw TrainingDiverged(m.str());
+  }
+  adam_.step(paramRefs_, gradRefs_, float(c.learningRate));
+  policy->logStd = policy->logStd.cwiseMax(float(config_.logStdMin)).cwiseMin(float(config_.logStdMax));
+
+  stats->policyLoss += policyLoss;
+  stats->valueLoss += valueLoss;
+  stats->entropy += entropy;
+  stats->approxKl += double(((ratio - 1.0f) - logRatio).cast<double>().mean());
+  stats->clipFraction += double(((ratio - 1.0f).abs() > eps).cast<double>().mean());
+  stats->gradNorm += gradNorm;
+  ++stats->minibatches;
+}
+
+}  // namespace ai

@@ -1,0 +1,103 @@
+// ppo.h — the policy (actor, critic, observation normaliser, log-std) and the clipped-surrogate PPO update
+// over a rollout buffer: loss = policy clip loss + c * value loss - beta * entropy, shuffled minibatches from
+// a seeded RNG, one Adam over all tensors, global grad-norm clipping, and a NaN/Inf guard that throws.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "ai/nn/adam.h"
+#include "ai/nn/mlp.h"
+#include "ai/nn/normalizer.h"
+#include "ai/ppo/ppo_config.h"
+#include "ai/ppo/rollout_buffer.h"
+#include "engine/core/error.h"
+
+namespace ai {
+
+/// Everything that defines a policy and its critic; what a branch skill inherits from its parent.
+struct PolicyState {
+  MlpWeights actor;               ///< normalised obs -> action mean (actSize)
+  MlpWeights critic;              ///< normalised obs -> value (1)
+  RunningNormalizer normalizer;   ///< observation statistics shared by actor and critic
+  Eigen::VectorXf logStd;         ///< actSize: state-independent log standard deviation (nats)
+
+  /// Observation entries expected.
+  int observationSize() const { return actor.inputSize(); }
+  /// Action entries produced.
+  int actionSize() const { return actor.outputSize(); }
+};
+
+/// A fresh policy for config's network shapes: orthogonal init from seed, log-std = initialLogStd,
+/// normaliser at its prior (clip = observationClip, or unclipped identity when normalisation is off).
+PolicyState makePolicyState(const PpoConfig& config, int observationSize, int actionSize, uint64_t seed);
+
+/// Deterministic actions (the actor's mean) for raw observations (obsSize x batch); normaliser frozen.
+void actDeterministic(const PolicyState& policy, const Eigen::MatrixXf& observations, Eigen::MatrixXf* actions);
+
+/// Thrown when a loss, gradient, observation or reward is NaN or infinite. The trainer saves the state and stops.
+class TrainingDiverged : public engine::Error {
+ public:
+  explicit TrainingDiverged(const std::string& message) : engine::Error(message) {}
+};
+
+/// The schedule values for one update.
+struct PpoCoefficients {
+  double learningRate = 3e-4;  ///< Adam step size
+  double epsilon = 0.2;        ///< clip range
+  double beta = 5e-3;          ///< entropy bonus (per action dimension)
+};
+
+/// Linear schedules at progress in [0, 1] (fraction of the run's total env steps done).
+PpoCoefficients scheduledCoefficients(const PpoConfig& config, double progress);
+
+/// Means over all minibatch steps of one update.
+struct PpoStats {
+  double policyLoss = 0;         ///< clipped surrogate loss
+  double valueLoss = 0;          ///< mean (V - R)^2 (before the coefficient)
+  double entropy = 0;            ///< entropy per action dimension (nats)
+  double approxKl = 0;           ///< mean((r - 1) - log r), r = new/old probability ratio
+  double clipFraction = 0;       ///< fraction of samples with |r - 1| > epsilon
+  double explainedVariance = 0;  ///< 1 - Var(R - V) / Var(R) over the buffer, with the rollout's values
+  double gradNorm = 0;           ///< global gradient norm before clipping
+  int minibatches = 0;           ///< gradient steps taken
+};
+
+/// Gradients of the trainable tensors of a PolicyState.
+struct PolicyGradients {
+  MlpWeights actor, critic;
+  Eigen::VectorXf logStd;
+};
+
+/// The PPO update with its optimiser and reusable scratch (no allocation per minibatch once warmed up).
+class PpoUpdater {
+ public:
+  explicit PpoUpdater(const PpoConfig& config);
+
+  /// numEpoch passes of shuffled minibatches over buffer (advantages and returns filled). Shuffling draws
+  /// from rng. Throws TrainingDiverged before applying a non-finite step (the policy keeps the last good step).
+  PpoStats update(const RolloutBuffer& buffer, const PpoCoefficients& coefficients, std::mt19937_64* rng,
+                  PolicyState* policy);
+
+  /// The optimiser (its state is part of a checkpoint).
+  Adam& optimizer() { return adam_; }
+  const Adam& optimizer() const { return adam_; }
+
+ private:
+  // one gradient step on the minibatch in the mb* members; adds to stats
+  void minibatchStep(const PpoCoefficients& c, PolicyState* policy, PpoStats* stats);
+
+  PpoConfig config_;
+  Adam adam_;
+  PolicyGradients grads_;
+  MlpCache actorCache_, criticCache_;
+  std::vector<int> permutation_;
+  std::vector<TensorRef> paramRefs_, gradRefs_;
+  Eigen::MatrixXf mbObs_, mbActions_, mean_, value_, dMean_, dValue_;
+  Eigen::ArrayXXf z_;
+  Eigen::ArrayXf mbLogProbs_, mbAdvantages_, mbReturns_, mbValues_;
+};
+
+}  // namespace ai

@@ -1,0 +1,116 @@
+// trainer.h — the PPO training loop (rsl_rl's OnPolicyRunner shape): act -> env.step -> store -> GAE ->
+// update -> log -> save. Every iteration starts with env.reset(seed derived from run seed and iteration),
+// so an iteration boundary holds no hidden simulator state and a resumed run is bit-identical.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "ai/env/vec_env.h"
+#include "ai/ppo/ppo.h"
+#include "ai/ppo/ppo_config.h"
+
+namespace ai {
+
+/// Reported after every iteration.
+struct TrainerProgress {
+  int64_t iteration = 0;          ///< completed iterations
+  int64_t totalIterations = 0;    ///< iterations the run will take
+  int64_t envSteps = 0;           ///< environment steps so far
+  int64_t totalSteps = 0;         ///< the run's budget
+  double stepsPerSecond = 0;      ///< environment steps per wall second, averaged over this process's iterations
+  double etaSeconds = 0;          ///< remaining steps / stepsPerSecond
+  double meanReward = 0;          ///< mean unscaled reward per environment step in this iteration
+  double meanEpisodeReturn = std::numeric_limits<double>::quiet_NaN();  ///< over episodes ended in this iteration
+  double meanEpisodeLength = std::numeric_limits<double>::quiet_NaN();  ///< steps, same episodes
+  double evalScore = std::numeric_limits<double>::quiet_NaN();          ///< this iteration's evaluation (NaN: none)
+  PpoStats stats;                 ///< the update's losses and diagnostics
+};
+
+struct TrainerOptions {
+  /// Output folder (created): log.csv, checkpoint.bin, best.bin, diverged.bin.
+  std::string runDir;
+  /// Train until at least this many environment steps (whole iterations); the schedules decay over it.
+  int64_t totalSteps = 1000000;
+  /// Run seed: initial weights, action noise, minibatch order and the per-iteration env reset seeds.
+  uint64_t seed = 1;
+  /// Continue from runDir/checkpoint.bin (required to exist); log.csv rows after it are dropped.
+  bool resume = false;
+  /// Called after every iteration (after logging and saving). Optional.
+  std::function<void(const TrainerProgress&)> onIteration;
+  /// Scores the policy (higher is better); called every evalEvery iterations. The best-scoring policy is
+  /// kept in runDir/best.bin. Optional; must be deterministic for resumed runs to match uninterrupted ones.
+  std::function<double(const PolicyState&)> evaluate;
+  /// Iterations between evaluations (and always after the last iteration).
+  int evalEvery = 10;
+  /// Iterations between checkpoints (and always after the last iteration). 1 = every iteration.
+  int checkpointEvery = 1;
+};
+
+class Trainer {
+ public:
+  /// Builds a fresh policy for env's observation and action sizes from options.seed. Throws engine::Error
+  /// on an invalid config or options.
+  Trainer(VecEnv& env, const PpoConfig& config, TrainerOptions options);
+
+  /// Branch initialisation: copies actor, critic, normaliser and log-std from parent (shapes must match the
+  /// env and config); optimiser state, schedules and step counter start fresh. reinflateLogStd: if not
+  /// NaN, each log-std entry becomes max(entry, reinflateLogStd) to restore exploration. Call before run();
+  /// a resumed run (options.resume) loads its checkpoint instead.
+  void initialiseFrom(const PolicyState& parent, float reinflateLogStd = std::numeric_limits<float>::quiet_NaN());
+
+  /// Trains to options.totalSteps (resuming first if options.resume). Throws TrainingDiverged after saving
+  /// runDir/diverged.bin (checkpoint.bin keeps the last good state); engine::Error on I/O or resume problems.
+  void run();
+
+  /// Asks run() to stop after the current iteration (checkpoint saved). Safe from onIteration or a signal handler.
+  void requestStop() { stopRequested_ = true; }
+
+  /// The current policy.
+  const PolicyState& policy() const { return policy_; }
+  /// Completed iterations.
+  int64_t iteration() const { return iteration_; }
+  /// Environment steps so far.
+  int64_t envSteps() const { return envSteps_; }
+  /// Environment steps per environment per iteration (bufferSize / numEnvs).
+  int stepsPerEnv() const { return stepsPerEnv_; }
+
+  /// Column names of log.csv, in order.
+  std::vector<std::string> logColumns() const;
+
+ private:
+  struct Timing {
+    double physics = 0, inference = 0, update = 0;
+  };
+  struct RolloutStats;
+
+  void collectRollout(RolloutStats* stats, Timing* timing);
+  void writeCheckpoint(const std::string& path) const;
+  void resumeFromCheckpoint(double* wallOffset);
+  std::string logRow(const TrainerProgress& p, const RolloutStats& r, double lr, double wall, double stepsPerSecond,
+                     const Timing& timing) const;
+
+  VecEnv& env_;
+  PpoConfig config_;
+  TrainerOptions options_;
+  int stepsPerEnv_ = 0;
+  PolicyState policy_;
+  PpoUpdater updater_;
+  RolloutBuffer buffer_;
+  std::mt19937_64 rng_;
+  int64_t iteration_ = 0;
+  int64_t envSteps_ = 0;
+  double bestScore_ = -std::numeric_limits<double>::infinity();
+  std::atomic<bool> stopRequested_{false};
+
+  // rollout scratch, reused every step
+  StepResult step_;
+  Eigen::MatrixXf obs_, normObs_, mean_, actions_, values_, finalObs_, finalNorm_, finalValues_;
+};
+
+}  // namespace ai

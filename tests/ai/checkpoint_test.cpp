@@ -1,0 +1,87 @@
+// checkpoint_test.cpp — policy files and checkpoints round-trip byte-exactly, and truncated, corrupted,
+// foreign or future-version files are rejected with a message naming the file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "ai/nn/byte_io.h"
+#include "ai/ppo/checkpoint.h"
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+
+namespace ai {
+namespace {
+
+std::string tempDir() {
+  const std::string dir = (std::filesystem::temp_directory_path() / ("tl_ckpt_" + std::to_string(::getpid()))).string();
+  engine::makeDirectories(dir);
+  return dir;
+}
+
+PolicyState smallPolicy() {
+  PpoConfig c;
+  c.actorHidden = {8};
+  c.criticHidden = {6, 5};
+  PolicyState p = makePolicyState(c, 3, 2, 99);
+  Eigen::MatrixXf batch = Eigen::MatrixXf::Random(3, 10);
+  p.normalizer.update(batch);
+  return p;
+}
+
+std::string errorLoading(const std::string& path) {
+  try {
+    loadCheckpoint(path);
+  } catch (const engine::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Checkpoint, PolicyFileRoundTripsByteExactly) {
+  const std::string dir = tempDir();
+  const PolicyState p = smallPolicy();
+  savePolicyState(dir + "/a.bin", p, PolicyInfo{0x1234, 7, 700, 1.5});
+  PolicyInfo info;
+  const PolicyState q = loadPolicyState(dir + "/a.bin", &info);
+  EXPECT_EQ(info.iteration, 7);
+  EXPECT_EQ(info.envSteps, 700);
+  EXPECT_EQ(info.score, 1.5);
+  EXPECT_TRUE(q.actor.W[1] == p.actor.W[1]);
+  EXPECT_TRUE(q.critic.b[2] == p.critic.b[2]);
+  EXPECT_TRUE(q.logStd == p.logStd);
+  EXPECT_TRUE(q.normalizer.variance() == p.normalizer.variance());
+  savePolicyState(dir + "/b.bin", q, info);
+  EXPECT_EQ(engine::readFile(dir + "/a.bin"), engine::readFile(dir + "/b.bin"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Checkpoint, DamagedFilesAreRejectedWithReason) {
+  const std::string dir = tempDir(), path = dir + "/checkpoint.bin";
+  TrainerCheckpoint c;
+  c.policy = smallPolicy();
+  c.iteration = 3;
+  c.rngState = "1 2 3";
+  saveCheckpoint(path, c);
+  const std::string good = engine::readFile(path);
+  EXPECT_EQ(loadCheckpoint(path).iteration, 3);
+
+  engine::writeFileAtomic(path, good.substr(0, good.size() - 10));
+  EXPECT_NE(errorLoading(path).find("truncated or padded"), std::string::npos) << errorLoading(path);
+
+  std::string flipped = good;
+  flipped[good.size() / 2] ^= 0x40;
+  engine::writeFileAtomic(path, flipped);
+  EXPECT_EQ(errorLoading(path), path + ": checksum mismatch (the file is corrupted)");
+
+  std::string future = good;
+  future[8] = 9;  // version field
+  engine::writeFileAtomic(path, future);
+  EXPECT_NE(errorLoading(path).find("version 9 is not supported"), std::string::npos);
+
+  savePolicyState(path, c.policy);  // a policy file is not a checkpoint
+  EXPECT_EQ(errorLoading(path), path + ": not a treelearn checkpoint file (bad magic)");
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ai

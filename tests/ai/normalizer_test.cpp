@@ -1,0 +1,53 @@
+// normalizer_test.cpp — RunningNormalizer: mean and variance of a known set (with the 1e-4 prior count),
+// batch-order independence, clipping, frozen normalisation.
+#include <gtest/gtest.h>
+
+#include "ai/nn/normalizer.h"
+
+namespace ai {
+namespace {
+
+TEST(RunningNormalizer, MeanAndVarianceOfKnownSetIncludePriorCount) {
+  RunningNormalizer norm(2);
+  Eigen::MatrixXf batch(2, 4);
+  batch << 1, 2, 3, 4, 10, 10, 10, 10;
+  norm.update(batch);
+  // prior (mean 0, var 1, count c = 1e-4) merged with the batch (mean 2.5, var 1.25, count 4):
+  // mean = 4*2.5 / 4.0001 = 2.4999375;  var = (c*1 + 4*1.25 + 2.5^2 * c*4/4.0001) / 4.0001 = 5.000725 / 4.0001 = 1.2501500
+  const double c = 1e-4, total = 4.0 + c;
+  EXPECT_NEAR(norm.mean()(0), 10.0 / total, 1e-6);
+  EXPECT_NEAR(norm.variance()(0), (c + 5.0 + 6.25 * c * 4.0 / total) / total, 1e-12);
+  EXPECT_NEAR(norm.variance()(0), 1.2501500, 1e-6);
+  // constant feature: mean 40/4.0001 = 9.99975, var = (c + 0 + 100 * c*4/4.0001) / 4.0001 = 0.0025249
+  EXPECT_NEAR(norm.mean()(1), 9.99975, 1e-4);
+  EXPECT_NEAR(norm.variance()(1), (c + 100.0 * c * 4.0 / total) / total, 1e-12);
+  EXPECT_DOUBLE_EQ(norm.count(), total);
+  EXPECT_NEAR(norm.stddev()(0), std::sqrt(1.2501500 + 1e-8), 1e-6);
+}
+
+TEST(RunningNormalizer, TwoBatchesEqualOneBatch) {
+  RunningNormalizer a(1), b(1);
+  Eigen::MatrixXf all(1, 5), first(1, 2), second(1, 3);
+  all << 1, 2, 3, 4, 10;
+  first << 1, 2;
+  second << 3, 4, 10;
+  a.update(all);
+  b.update(first);
+  b.update(second);
+  EXPECT_NEAR(a.mean()(0), b.mean()(0), 1e-6);
+  EXPECT_NEAR(a.variance()(0), b.variance()(0), 1e-9);
+}
+
+TEST(RunningNormalizer, NormalizesAndClipsToFive) {
+  RunningNormalizer norm(1);  // prior: mean 0, var 1 -> (x - 0) / sqrt(1 + 1e-8)
+  EXPECT_EQ(norm.clip(), 5.0f);
+  Eigen::MatrixXf x(1, 3), out;
+  x << 2.0f, 7.0f, -9.0f;
+  norm.normalize(x, &out);
+  EXPECT_NEAR(out(0, 0), 2.0, 1e-6);
+  EXPECT_EQ(out(0, 1), 5.0f);
+  EXPECT_EQ(out(0, 2), -5.0f);
+}
+
+}  // namespace
+}  // namespace ai

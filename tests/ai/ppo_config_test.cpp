@@ -1,0 +1,72 @@
+// ppo_config_test.cpp — PpoConfig defaults (the paper's Table 2), TOML overrides, strict keys with
+// file:line errors, and the toToml round trip.
+#include <gtest/gtest.h>
+
+#include "ai/ppo/ppo_config.h"
+#include "engine/core/error.h"
+
+namespace ai {
+namespace {
+
+std::string errorOf(const std::string& text) {
+  try {
+    parsePpoConfig(text, "run.toml");
+  } catch (const engine::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PpoConfig, DefaultsAreTable2) {
+  const PpoConfig c;
+  EXPECT_EQ(c.bufferSize, 20480);
+  EXPECT_EQ(c.batchSize, 2048);
+  EXPECT_EQ(c.numEpoch, 3);
+  EXPECT_EQ(c.gamma, 0.995);
+  EXPECT_EQ(c.lambda, 0.95);
+  EXPECT_EQ(c.learningRate, 3e-4);
+  EXPECT_EQ(c.epsilon, 0.2);
+  EXPECT_EQ(c.beta, 5e-3);
+  EXPECT_EQ(c.rewardScale, 1.0);
+  EXPECT_EQ(c.actorHidden, (std::vector<int>{512, 512, 512}));
+  EXPECT_EQ(c.criticHidden, (std::vector<int>{128, 128}));
+}
+
+TEST(PpoConfig, TableOverridesDefaults) {
+  const PpoConfig c = parsePpoConfig("[env]\nx = 1\n[ppo]\nbatch_size = 512\ngamma = 0.99\nactor_hidden = [64, 64]\n"
+                                     "activation = \"tanh\"\nclip_value_loss = true\nlearning_rate = 1\n",
+                                     "run.toml");
+  EXPECT_EQ(c.batchSize, 512);
+  EXPECT_EQ(c.gamma, 0.99);
+  EXPECT_EQ(c.actorHidden, (std::vector<int>{64, 64}));
+  EXPECT_EQ(c.activation, Activation::Tanh);
+  EXPECT_TRUE(c.clipValueLoss);
+  EXPECT_EQ(c.learningRate, 1.0);  // an integer is accepted for a real field
+  EXPECT_EQ(c.bufferSize, 20480);
+  EXPECT_EQ(toToml(parsePpoConfig("", "empty.toml")), toToml(PpoConfig{}));  // no [ppo]: defaults
+}
+
+TEST(PpoConfig, UnknownKeyWrongTypeAndBadValueReportFileAndLine) {
+  EXPECT_EQ(errorOf("[ppo]\ngamma = 0.9\nbatchsize = 3\n"), "run.toml:3: unknown key 'batchsize' in [ppo]");
+  EXPECT_EQ(errorOf("[ppo]\n\nnum_epoch = 2.5\n"), "run.toml:3: 'num_epoch' must be an integer");
+  EXPECT_EQ(errorOf("[ppo]\nactivation = \"relu\"\n"), "run.toml:2: 'activation' must be \"elu\" or \"tanh\"");
+  EXPECT_EQ(errorOf("[ppo]\ngamma = 1.5\n"), "run.toml:2: gamma must be in (0, 1]");
+  EXPECT_EQ(errorOf("[ppo]\ngamma = \n"), errorOf("[ppo]\ngamma = \n"));  // parse errors are located too
+  EXPECT_EQ(errorOf("[ppo]\ngamma = \n").rfind("run.toml:2:", 0), 0u);
+}
+
+TEST(PpoConfig, ToTomlRoundTripsEveryField) {
+  PpoConfig c;
+  c.betaFinal = 1e-5;
+  c.learningRate = 0.000123;
+  c.criticHidden = {7};
+  c.normalizeObservations = false;
+  const std::string text = toToml(c);
+  EXPECT_NE(text.find("beta_final = 1e-05"), std::string::npos);
+  EXPECT_EQ(toToml(parsePpoConfig(text, "roundtrip.toml")), text);
+  EXPECT_EQ(ppoConfigHash(parsePpoConfig(text, "roundtrip.toml")), ppoConfigHash(c));
+  EXPECT_NE(ppoConfigHash(c), ppoConfigHash(PpoConfig{}));
+}
+
+}  // namespace
+}  // namespace ai
