@@ -1,7 +1,12 @@
 // commands.h — the subcommands of the treelearn program (apps/ is the only layer that prints and exits).
 #pragma once
 
+#include <cmath>
+#include <cstdint>
 #include <string>
+
+#include "ai/ppo/ppo.h"
+#include "robot/skill_tree.h"
 
 namespace apps {
 
@@ -14,5 +19,35 @@ struct BenchOptions {
 
 /// Runs the benchmarks and prints a table; returns the exit code.
 int runBench(const BenchOptions& options);
+
+/// `treelearn train` options.
+struct TrainOptions {
+  std::string skill;
+  int64_t steps = 0;      ///< 0 = the skill's budget from the tree file
+  bool resume = false;
+  int threads = 2;
+  int envs = 0;           ///< 0 = the skill's setting
+  uint64_t seed = 1;
+  std::string runDir;     ///< default runs/SKILL
+  int evalEvery = 10;     ///< iterations between report-card evaluations (0 = never)
+  double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
+  bool exportOnly = false;
+};
+
+/// `treelearn eval` options.
+struct EvalOptions {
+  std::string skill;
+  int episodes = 50;
+  uint64_t seed = 1;
+  int threads = 2;
+};
+
+int runTrain(const TrainOptions& options);
+int runExport(const TrainOptions& options);
+int runEval(const EvalOptions& options);
+
+/// Writes a skill's ONNX file (with DESIGN.md §3 metadata) and its full policy state (for branches).
+void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, const ai::PolicyState& policy,
+                 const std::string& onnxPath, const std::string& policyPath, int64_t envSteps, uint64_t seed);
 
 }  // namespace apps

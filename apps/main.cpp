@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <sstream>
 
+#include "ai/onnx/policy_onnx.h"
 #include "apps/commands.h"
+#include "robot/skill_layout.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/hash.h"
@@ -22,6 +24,26 @@ namespace {
 constexpr int kExitExpectationFailed = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kFrameWidth = 640, kFrameHeight = 360;
+
+// every skill of the tree whose ONNX model exists, loaded once; the hash covers the tree file and the models
+game::SkillSet loadSkills(const robot::RobotModel& model) {
+  game::SkillSet set;
+  const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
+  engine::Hasher h;
+  const std::string treeText = engine::readFile(tree.path);
+  h.bytes(treeText.data(), treeText.size());
+  for (const robot::SkillDef& def : tree.skills) {
+    const std::string path = tree.directory + "/" + def.model;
+    if (!std::filesystem::exists(path)) continue;
+    auto policy = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(path));
+    if (policy->observationSize() != robot::kObservationSize || policy->actionSize() != robot::kActionSize)
+      throw engine::Error(path + ": network sizes do not match the shared observation/action layout");
+    h.value(ai::onnxFileHash(path));
+    set.skills.push_back({def, [policy](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { policy->act(o, a); }});
+  }
+  set.hash = set.skills.empty() ? 0 : h.value();
+  return set;
+}
 
 struct OutputOptions {
   std::string framesDir, videoPath;
@@ -59,10 +81,11 @@ std::string summaryText(const levels::Level& level, const game::PlayResult& r, c
     s << line;
   }
   s << "\n";
-  std::string skills;
-  for (int k : t.skillsRequested) skills += (skills.empty() ? "" : ", ") + std::to_string(k);
-  s << "skills     requested keys: " << (skills.empty() ? "none" : skills)
-    << " (no skill models yet: the standing controller ran)\n";
+  std::string keys, used;
+  for (int k : t.skillsRequested) keys += (keys.empty() ? "" : ", ") + std::to_string(k);
+  for (const std::string& u : t.skillsUsed) used += (used.empty() ? "" : ", ") + u;
+  s << "skills     used: " << (used.empty() ? "none (standing controller)" : used)
+    << "; requested keys: " << (keys.empty() ? "none" : keys) << "\n";
   std::snprintf(line, sizeof line, "pelvis     mean height %.3f m (min %.3f, max %.3f), max tilt %.1f deg\n",
                 t.ticks ? t.sumPelvisHeight / double(t.ticks) : 0.0, t.minPelvisHeight, t.maxPelvisHeight,
                 t.maxTilt * 180.0 / M_PI);
@@ -112,6 +135,7 @@ int cmdPlay(const PlayArgs& a) {
   const levels::Level level = levels::loadLevel(a.level);
   for (const std::string* f : {&a.record, &a.summary, &a.out.videoPath}) makeParentDirectory(*f);
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
+  const game::SkillSet skills = loadSkills(model);
   if (a.autopilot) throw engine::Error("--autopilot: no autopilot yet (it arrives with the Mario level)");
   if (!a.expect.empty() && a.expect != "alive" && a.expect != "win")
     throw engine::Error("--expect must be 'alive' or 'win', not '" + a.expect + "'");
@@ -120,6 +144,7 @@ int cmdPlay(const PlayArgs& a) {
 
   game::PlayOptions options;
   options.seed = a.seed;
+  options.skills = &skills;
   if (!a.keys.empty()) {
     const std::string path = resolveKeys(a.keys, level);
     options.events = engine::parseKeyScript(engine::readFile(path), path);
@@ -142,7 +167,7 @@ int cmdPlay(const PlayArgs& a) {
     replay.level = a.level;
     replay.levelHash = level.hash;
     replay.robotHash = model.hash;
-    replay.skillsHash = 0;  // no skill models yet
+    replay.skillsHash = skills.hash;
     replay.seed = a.seed;
     replay.ticks = r.ticks;
     replay.hashEvery = options.hashEvery;
@@ -177,15 +202,17 @@ int cmdReplay(const ReplayArgs& a) {
   if (model.hash != replay.robotHash)
     throw engine::Error(a.file + ": the robot model has changed since recording (hash " + engine::toHex(model.hash) +
                         ", replay has " + engine::toHex(replay.robotHash) + ")");
-  if (replay.skillsHash != 0)
-    throw engine::Error(a.file + ": recorded with skill models (hash " + engine::toHex(replay.skillsHash) +
-                        "), which this build does not have");
+  const game::SkillSet skills = loadSkills(model);
+  if (replay.skillsHash != skills.hash)
+    throw engine::Error(a.file + ": the skill models have changed since recording (hash " + engine::toHex(skills.hash) +
+                        ", replay has " + engine::toHex(replay.skillsHash) + "); record it again");
 
   game::PlayOptions options;
   options.seed = replay.seed;
   options.ticks = replay.ticks;
   options.events = replay.events;
   options.hashEvery = replay.hashEvery;
+  options.skills = &skills;
   if (a.verify) options.expected = &replay.states;
   const game::PlayResult r = runWithOutput(level, model, options, a.out);
   if (!a.verify) {
@@ -245,6 +272,26 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--frames", bench.frames, "Frames per rendering measurement")->check(CLI::Range(1, 100000));
   benchCmd->add_option("--csv", bench.csv, "Also write the results as CSV");
 
+  apps::TrainOptions train;
+  CLI::App* trainCmd = app.add_subcommand("train", "Train a skill with PPO (a branch starts from its parent)");
+  trainCmd->add_option("skill", train.skill, "Skill name from assets/skills/tree.toml")->required();
+  trainCmd->add_option("--steps", train.steps, "Environment steps (default: the skill's budget)")->check(CLI::Range(int64_t(1), int64_t(10000000000)));
+  trainCmd->add_flag("--resume", train.resume, "Continue the run in the run folder exactly where its checkpoint stopped");
+  trainCmd->add_option("--threads", train.threads, "Threads stepping the environments")->check(CLI::Range(1, 64));
+  trainCmd->add_option("--envs", train.envs, "Parallel environments (must divide the PPO buffer)")->check(CLI::Range(1, 4096));
+  trainCmd->add_option("--seed", train.seed, "Run seed (default 1)");
+  trainCmd->add_option("--run-dir", train.runDir, "Run folder for log.csv, checkpoint.bin, best.bin (default runs/SKILL)");
+  trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")->check(CLI::Range(0, 100000));
+  trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd, "Branch init: raise the inherited log-std to at least this");
+  trainCmd->add_flag("--export-only", train.exportOnly, "Only export the run's best policy to assets/skills/ (no training)");
+
+  apps::EvalOptions eval;
+  CLI::App* evalCmd = app.add_subcommand("eval", "Run a skill's report card in physics; exit 0 when it passes");
+  evalCmd->add_option("skill", eval.skill, "Skill name")->required();
+  evalCmd->add_option("--episodes", eval.episodes, "Episodes (default 50)")->check(CLI::Range(1, 100000));
+  evalCmd->add_option("--seed", eval.seed, "Seed (default 1)");
+  evalCmd->add_option("--threads", eval.threads, "Threads")->check(CLI::Range(1, 64));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -254,6 +301,8 @@ int main(int argc, char** argv) {
     if (*playCmd) return cmdPlay(play);
     if (*replayCmd) return cmdReplay(replay);
     if (*benchCmd) return apps::runBench(bench);
+    if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
+    if (*evalCmd) return apps::runEval(eval);
   } catch (const engine::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitBadInput;

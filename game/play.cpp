@@ -9,7 +9,7 @@ namespace game {
 
 PlayResult play(const levels::Level& level, const robot::RobotModel& model, const PlayOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  Session session(level, model, SessionOptions{options.seed});
+  Session session(level, model, SessionOptions{options.seed, options.skills});
   engine::InputTimeline timeline(options.events);
   PlayResult result;
   size_t nextExpected = 0;

@@ -24,6 +24,7 @@ struct PlayOptions {
   engine::CameraMode camera = engine::CameraMode::Side;
   std::function<void(const engine::SceneSnapshot&)> onFrame;
   bool stopOnFall = false;                  ///< end the run at the first fall
+  const SkillSet* skills = nullptr;         ///< learned skills, or none
 };
 
 struct PlayResult {

@@ -20,7 +20,7 @@ double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 90071992
 }  // namespace
 
 Session::Session(const levels::Level& level, const robot::RobotModel& model, const SessionOptions& options)
-    : level_(level), model_(model), rng_(options.seed) {
+    : level_(level), model_(model), rng_(options.seed), skills_(options.skills) {
   // ground and static boxes: one entity each, mirrored into the 3D world and the 2D layer
   const engine::Entity ground = registry_.create();
   registry_.add(ground, Ground{level.groundFriction});
@@ -67,8 +67,43 @@ void Session::inputSystem(const std::vector<engine::KeyEvent>& events) {
   if (input_.state().skillRequest >= 0) telemetry_.skillsRequested.insert(input_.state().skillRequest);
 }
 
-// until learned skills exist every request is accepted and the standing controller drives the robot
-void Session::controlSystem() { robot_->setCommand(robot::Robot::standingCommand(model_)); }
+// the requested skill drives the robot if its model is loaded; otherwise the standing controller does.
+// A switch takes effect in the tick of the request; the new skill starts with a zero previous action and
+// its own phase clock.
+void Session::controlSystem() {
+  const int key = input_.state().skillRequest;
+  const SkillRuntime* wanted = skills_ && key >= 0 ? skills_->byKey(key) : nullptr;
+  if (wanted != active_) {
+    active_ = wanted;
+    action_.fill(0.0f);
+    phase_ = robot::PhaseClock{};
+  }
+  if (!active_) {
+    robot_->setCommand(robot::Robot::standingCommand(model_));
+    return;
+  }
+  telemetry_.skillsUsed.insert(active_->def.name);
+  const engine::CommandState& c = input_.state();
+  robot::SkillCommand command;
+  command.vx = c.vx;
+  command.vy = c.vy;
+  command.wz = c.wz;
+  command.amplitude = c.amplitude;
+  double s, co;
+  robot::phaseSignal(phase_.tp, active_->def.prior.halfPeriodTicks, &s, &co);
+  robot::Observation o;
+  robot::buildObservation(sensors_, model_, action_, command, s, co, &o);
+  observation_ = Eigen::Map<const Eigen::VectorXf>(o.data(), robot::kObservationSize);
+  active_->policy(observation_, &policyOutput_);
+  for (size_t j = 0; j < size_t(robot::kActionSize); ++j)
+    action_[j] = float(std::clamp(double(policyOutput_(Eigen::Index(j), 0)), -robot::kActionClip, robot::kActionClip));
+  phase_.advance(active_->def.prior.halfPeriodTicks);
+  robot::PdCommand pd;
+  robot::skillPdCommand(model_, active_->def, action_, phase_.tp, command, &pd);
+  robot_->setCommand(pd);
+}
+
+std::string Session::activeSkillName() const { return active_ ? active_->def.name : "stand"; }
 
 // PD torques are recomputed every 0.002 s substep inside the 0.01 s tick
 void Session::physicsSystem() {
@@ -109,6 +144,8 @@ uint64_t Session::stateHash() const {
   h.value(c.wz);
   h.value(c.amplitude);
   h.value(c.keysHeld);
+  h.bytes(action_.data(), sizeof(float) * action_.size());
+  h.value(phase_.tp);
   return h.value();
 }
 
@@ -116,9 +153,9 @@ std::string Session::hudLine() const {
   const engine::CommandState& c = input_.state();
   char buf[160];
   const std::string keys = engine::keysHeldString(c);
-  // until skill models exist the standing controller runs; a request shows as "stand<3"
-  std::string skill = "stand";
-  if (c.skillRequest >= 0) skill += "<" + std::to_string(c.skillRequest);
+  // a request without a loaded skill model shows as "stand<3"
+  std::string skill = activeSkillName();
+  if (!active_ && c.skillRequest >= 0) skill += "<" + std::to_string(c.skillRequest);
   std::snprintf(buf, sizeof buf, "T %.2f  %s  keys %s  v %+.1f %+.1f w %+.1f%s", seconds(), skill.c_str(),
                 keys.empty() ? "-" : keys.c_str(), c.vx, c.vy, c.wz, fallen_ ? "  FALLEN" : "");
   return buf;

@@ -15,8 +15,10 @@
 #include "engine/physics/physics_world.h"
 #include "engine/plane/plane_world.h"
 #include "engine/render/scene_snapshot.h"
+#include "game/skill_set.h"
 #include "levels/level.h"
 #include "robot/robot.h"
+#include "robot/skill_controller.h"
 
 namespace game {
 
@@ -30,7 +32,8 @@ constexpr double kFallPelvisHeight = 0.45;
 constexpr double kFallTilt = 0.8;
 
 struct SessionOptions {
-  uint64_t seed = 1;  ///< drives every random choice (today: the initial joint jitter)
+  uint64_t seed = 1;                ///< drives every random choice (today: the initial joint jitter)
+  const SkillSet* skills = nullptr;  ///< learned skills (keys 0-9); without them the standing controller runs
 };
 
 /// Running statistics for the summary.
@@ -41,6 +44,7 @@ struct Telemetry {
   double distance = 0;  ///< horizontal path length of the pelvis [m]
   int64_t ticks = 0;
   std::set<int> skillsRequested;
+  std::set<std::string> skillsUsed;
 };
 
 class Session {
@@ -63,6 +67,9 @@ class Session {
 
   /// The HUD line: time, skill, keys held.
   std::string hudLine() const;
+
+  /// Name of the skill driving the robot ("stand" for the standing controller).
+  std::string activeSkillName() const;
 
   const robot::Sensors& sensors() const { return sensors_; }
   const engine::CommandState& command() const { return input_.state(); }
@@ -89,6 +96,11 @@ class Session {
   engine::CommandInput input_;
   robot::Sensors sensors_;
   Telemetry telemetry_;
+  const SkillSet* skills_ = nullptr;
+  const SkillRuntime* active_ = nullptr;  // nullptr: standing controller
+  std::array<float, robot::kActionSize> action_{};
+  robot::PhaseClock phase_;
+  Eigen::MatrixXf observation_, policyOutput_;
   int64_t tick_ = 0;
   bool fallen_ = false;
   int64_t fallTick_ = -1;

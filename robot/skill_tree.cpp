@@ -182,7 +182,12 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.randomisation.pushSpeed = r.range(*d, "push_speed", {0, 0}, 0, 5, where + ".randomisation");
     }
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
-      r.onlyKeys(*tr, {"steps", "envs"}, where + ".training");
+      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards"}, where + ".training");
+      if (const toml::node* op = tr->get("only_positive_rewards")) {
+        auto b = op->value<bool>();
+        if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
+        s.onlyPositiveRewards = *b;
+      }
       s.trainingSteps = int64_t(r.number(*tr, "steps", 1e7, 1, 1e10, where + ".training"));
       s.trainingEnvs = int(r.number(*tr, "envs", 20, 1, 1024, where + ".training"));
     }

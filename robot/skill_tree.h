@@ -61,6 +61,7 @@ struct SkillDef {
   RandomisationDef randomisation;
   int64_t trainingSteps = 10000000;
   int trainingEnvs = 20;
+  bool onlyPositiveRewards = true;  ///< clip each step's total reward at 0 (falling early never pays)
   int line = 0;  ///< where it is defined
 };
 

@@ -158,6 +158,8 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       e.termSums[k] = v;
       reward += v;
     }
+    // legged_gym's only_positive_rewards: with a negative total a fall would be the agent's best move
+    if (skill_.onlyPositiveRewards) reward = std::max(reward, 0.0);
     e.reward = float(reward);
     e.episodeReturn += reward;
 

@@ -52,15 +52,21 @@ TEST(SkillEnv, ObservationFollowsTheSharedLayout) {
   for (int j = 0; j < robot::kNumJoints; ++j) EXPECT_EQ(obs(robot::kObsPreviousAction + j, 0), 0.0f);
 }
 
-TEST(SkillEnv, RewardIsTheWeightedSumOfItsTerms) {
-  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, {3, 1, true});
+TEST(SkillEnv, RewardIsTheWeightedSumOfItsTermsClippedAtZero) {
+  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, {1, 1, true});
   Eigen::MatrixXf obs;
   env.reset(3, &obs);
   ai::StepResult r;
-  env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 3), &r);
-  double total = 0;
-  for (double t : r.rewardTermSums) total += t;
-  EXPECT_NEAR(total, double(r.rewards.sum()), 1e-4);
+  int clipped = 0, positive = 0;
+  for (int s = 0; s < 200; ++s) {
+    env.step(Eigen::MatrixXf::Constant(robot::kActionSize, 1, s % 2 ? 1.5f : -1.5f), &r);
+    double total = 0;
+    for (double t : r.rewardTermSums) total += t;
+    EXPECT_NEAR(std::max(total, 0.0), double(r.rewards[0]), 1e-4);
+    clipped += total < 0;
+    positive += total > 0;
+  }
+  EXPECT_GT(clipped, 0);  // the alternating actions are punished below zero at least once
 }
 
 TEST(SkillEnv, AFallTerminatesAndResets) {

@@ -88,7 +88,7 @@ TEST(SkillTree, ShippedTreeLoadsWithWalkAsRoot) {
   EXPECT_EQ(walk->parent, "");
   EXPECT_EQ(walk->key, 0);
   EXPECT_EQ(walk->prior.halfPeriodTicks, 40);
-  EXPECT_DOUBLE_EQ(walk->kp[3], 150.0);       // knee
+  EXPECT_DOUBLE_EQ(walk->kp[3], 450.0);       // knee
   EXPECT_DOUBLE_EQ(walk->actionScale[13], 0.0);  // arms are held
 }
 
