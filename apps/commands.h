@@ -32,6 +32,7 @@ struct TrainOptions {
   int evalEvery = 10;     ///< iterations between report-card evaluations (0 = never)
   double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
   bool exportOnly = false;
+  std::string modelsDir;  ///< where the ONNX and policy files go (default: the tree file's folder)
 };
 
 /// `treelearn eval` options.

@@ -283,6 +283,7 @@ int main(int argc, char** argv) {
   trainCmd->add_option("--run-dir", train.runDir, "Run folder for log.csv, checkpoint.bin, best.bin (default runs/SKILL)");
   trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")->check(CLI::Range(0, 100000));
   trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd, "Branch init: raise the inherited log-std to at least this");
+  trainCmd->add_option("--models-dir", train.modelsDir, "Folder for the exported ONNX and policy files (default assets/skills)");
   trainCmd->add_flag("--export-only", train.exportOnly, "Only export the run's best policy to assets/skills/ (no training)");
 
   apps::EvalOptions eval;

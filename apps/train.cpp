@@ -105,8 +105,9 @@ int runTrain(const TrainOptions& o) {
   const int64_t steps = o.steps > 0 ? o.steps : skill.trainingSteps;
   const int envs = o.envs > 0 ? o.envs : skill.trainingEnvs;
   const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
-  const std::string onnxPath = l.tree.directory + "/" + skill.model;
-  const std::string policyPath = l.tree.directory + "/" + skill.name + ".policy.bin";
+  const std::string modelsDir = o.modelsDir.empty() ? l.tree.directory : o.modelsDir;
+  const std::string onnxPath = modelsDir + "/" + skill.model;
+  const std::string policyPath = modelsDir + "/" + skill.name + ".policy.bin";
   if (config.bufferSize % envs != 0)
     throw engine::Error("--envs " + std::to_string(envs) + " must divide the PPO buffer size " + std::to_string(config.bufferSize));
 
@@ -186,8 +187,9 @@ int runExport(const TrainOptions& o) {
   if (source.empty()) throw engine::Error(runDir + "/best.bin: no evaluated policy to export yet");
   ai::PolicyInfo info;
   const ai::PolicyState p = ai::loadPolicyState(source, &info);
-  exportSkill(l.model, *l.skill, p, l.tree.directory + "/" + l.skill->model,
-              l.tree.directory + "/" + l.skill->name + ".policy.bin", info.envSteps, o.seed);
+  const std::string modelsDir = o.modelsDir.empty() ? l.tree.directory : o.modelsDir;
+  exportSkill(l.model, *l.skill, p, modelsDir + "/" + l.skill->model, modelsDir + "/" + l.skill->name + ".policy.bin",
+              info.envSteps, o.seed);
   std::printf("exported %s from %s (iteration %lld, %lld env steps, score %.3f)\n", l.skill->model.c_str(),
               source.c_str(), (long long)info.iteration, (long long)info.envSteps, info.score);
   return 0;

@@ -95,8 +95,7 @@ void Session::controlSystem() {
   robot::buildObservation(sensors_, model_, action_, command, s, co, &o);
   observation_ = Eigen::Map<const Eigen::VectorXf>(o.data(), robot::kObservationSize);
   active_->policy(observation_, &policyOutput_);
-  for (size_t j = 0; j < size_t(robot::kActionSize); ++j)
-    action_[j] = float(std::clamp(double(policyOutput_(Eigen::Index(j), 0)), -robot::kActionClip, robot::kActionClip));
+  robot::filterAction(active_->def, policyOutput_.data(), &action_);
   phase_.advance(active_->def.prior.halfPeriodTicks);
   robot::PdCommand pd;
   robot::skillPdCommand(model_, active_->def, action_, phase_.tp, command, &pd);

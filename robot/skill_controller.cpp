@@ -24,6 +24,14 @@ void phaseSignal(int tp, int t1, double* s, double* c) {
   *c = std::cos(M_PI * tp / t1);
 }
 
+void filterAction(const SkillDef& skill, const float* policyOutput, std::array<float, kActionSize>* applied) {
+  const float f = float(skill.actionFilter);
+  for (size_t j = 0; j < size_t(kActionSize); ++j) {
+    const float a = std::clamp(policyOutput[j], float(-kActionClip), float(kActionClip));
+    (*applied)[j] = f * (*applied)[j] + (1.0f - f) * a;
+  }
+}
+
 bool commandIsZero(const SkillCommand& c) { return c.vx == 0.0 && c.vy == 0.0 && c.wz == 0.0; }
 
 void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action, int tp,

@@ -26,6 +26,10 @@ void phaseSignal(int tp, int halfPeriodTicks, double* s, double* c);
 /// True when every motion command is zero (the walk's "stand still" case).
 bool commandIsZero(const SkillCommand& c);
 
+/// The action a skill applies this tick: clip the policy output to +-kActionClip, then low-pass it with the
+/// skill's filter (the lab's agent smooths its 100 Hz actions the same way). `applied` holds last tick's value.
+void filterAction(const SkillDef& skill, const float* policyOutput, std::array<float, kActionSize>* applied);
+
 /// PD command for this tick: target = default + scale * clip(action) + prior; gains from the skill.
 void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action,
                     int tp, const SkillCommand& command, PdCommand* out);

@@ -125,8 +125,8 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     const std::string where = "skill." + s.name;
     const toml::table* t = v.as_table();
     if (!t) throw Error(located(path, s.line, where + " must be a table"));
-    r.onlyKeys(*t, {"parent", "key", "model", "prior", "gains", "action_scale", "commands", "rewards", "termination",
-                    "randomisation", "training"},
+    r.onlyKeys(*t, {"parent", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
+                    "termination", "randomisation", "training"},
                where);
     if (const toml::node* p = t->get("parent")) {
       auto v2 = p->value<std::string>();
@@ -155,6 +155,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       if (s.kp[j] <= 0) throw Error(located(path, s.line, where + ".gains: no gain for joint " + model.joints[j].name));
     if (const toml::table* a = r.table(*t, "action_scale", false, where))
       r.groups(*a, where + ".action_scale", model, &s.actionScale, nullptr, 0, 2);
+    s.actionFilter = r.number(*t, "action_filter", 0.0, 0.0, 0.99, where);
     if (const toml::table* c = r.table(*t, "commands", false, where)) {
       r.onlyKeys(*c, {"vx", "vy", "wz", "zero_probability", "resample_s"}, where + ".commands");
       s.commands.vx = r.range(*c, "vx", {}, -5, 5, where + ".commands");

@@ -54,6 +54,7 @@ struct SkillDef {
   PriorDef prior;
   JointArray kp{}, kd{};           ///< PD gains per joint
   JointArray actionScale{};        ///< rad per policy unit, per joint
+  double actionFilter = 0.0;       ///< low-pass on the policy output: u = f u + (1 - f) a (0 = none)
   CommandDef commands;
   std::map<std::string, double> rewardWeights;  ///< term name -> weight
   std::map<std::string, int> rewardLines;       ///< term name -> line in the file (for errors)

@@ -133,8 +133,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
   pool_.parallelFor(n, [&](int i) {
     Env& e = *envs_[size_t(i)];
     e.previousAction = e.action;
-    for (size_t j = 0; j < size_t(robot::kActionSize); ++j)
-      e.action[j] = float(std::clamp(double(actions(Eigen::Index(j), i)), -robot::kActionClip, robot::kActionClip));
+    robot::filterAction(skill_, actions.col(i).data(), &e.action);
 
     // control: targets from action + prior, then the physics substeps with PD every substep
     e.phase.advance(skill_.prior.halfPeriodTicks);

@@ -83,8 +83,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
     pool.parallelFor(n, [&](int i) {
       Episode& e = eps[size_t(i)];
       if (e.fallen) return;
-      for (size_t j = 0; j < size_t(robot::kActionSize); ++j)
-        e.action[j] = float(std::clamp(double(act(Eigen::Index(j), i)), -robot::kActionClip, robot::kActionClip));
+      robot::filterAction(walk, act.col(i).data(), &e.action);
       e.phase.advance(walk.prior.halfPeriodTicks);
       robot::PdCommand pd;
       robot::skillPdCommand(e.model, walk, e.action, e.phase.tp, e.command, &pd);

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -134,4 +135,26 @@ TEST(Cli, FailedOutputLeavesNoHalfWrittenFile) {
   for (const auto& e : fs::directory_iterator(d)) entries += e.path().filename() != "taken.replay";
   EXPECT_EQ(entries, 0u);
   EXPECT_TRUE(fs::is_empty(d + "/taken.replay"));
+}
+
+TEST(Cli, TrainWritesLogCheckpointAndAValidOnnxModel) {
+  const std::string d = tempDir("train");
+  const CliRun r = run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d + "/run --models-dir " + d);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("iter 1/1"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(d + "/run/checkpoint.bin"));
+  EXPECT_TRUE(fs::exists(d + "/walk.policy.bin"));
+  const std::string log = engine::readFile(d + "/run/log.csv");
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 2);  // header + one iteration
+  // the exported model loads and has the shared layout in its metadata
+  EXPECT_GT(fs::file_size(d + "/walk.onnx"), 1000000u);
+  const std::string onnx = engine::readFile(d + "/walk.onnx");
+  EXPECT_NE(onnx.find("treelearn.joint_order"), std::string::npos);
+  EXPECT_NE(onnx.find("left_hip_pitch_joint"), std::string::npos);
+}
+
+TEST(Cli, UnknownSkillIsAnError) {
+  const CliRun r = run("train flyer --steps 10");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("unknown skill 'flyer'"), std::string::npos) << r.out;
 }
