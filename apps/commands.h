@@ -32,12 +32,14 @@ struct TrainOptions {
   int evalEvery = 10;     ///< iterations between report-card evaluations (0 = never)
   double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
   bool exportOnly = false;
+  std::string exportFrom = "best";  ///< --export-only source: best (best.bin) or last (checkpoint.bin)
   std::string modelsDir;  ///< where the ONNX and policy files go (default: the tree file's folder)
 };
 
 /// `treelearn eval` options.
 struct EvalOptions {
   std::string skill;
+  std::string model;  ///< ONNX file to evaluate (default: the skill's shipped model)
   int episodes = 50;
   uint64_t seed = 1;
   int threads = 2;

@@ -284,11 +284,14 @@ int main(int argc, char** argv) {
   trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")->check(CLI::Range(0, 100000));
   trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd, "Branch init: raise the inherited log-std to at least this");
   trainCmd->add_option("--models-dir", train.modelsDir, "Folder for the exported ONNX and policy files (default assets/skills)");
+  trainCmd->add_option("--export-from", train.exportFrom, "With --export-only: best (best.bin) or last (checkpoint.bin)")
+      ->check(CLI::IsMember({"best", "last"}));
   trainCmd->add_flag("--export-only", train.exportOnly, "Only export the run's best policy to assets/skills/ (no training)");
 
   apps::EvalOptions eval;
   CLI::App* evalCmd = app.add_subcommand("eval", "Run a skill's report card in physics; exit 0 when it passes");
   evalCmd->add_option("skill", eval.skill, "Skill name")->required();
+  evalCmd->add_option("--model", eval.model, "ONNX file to evaluate (default: the skill's model in assets/skills)");
   evalCmd->add_option("--episodes", eval.episodes, "Episodes (default 50)")->check(CLI::Range(1, 100000));
   evalCmd->add_option("--seed", eval.seed, "Seed (default 1)");
   evalCmd->add_option("--threads", eval.threads, "Threads")->check(CLI::Range(1, 64));

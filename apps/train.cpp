@@ -183,22 +183,32 @@ void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, c
 int runExport(const TrainOptions& o) {
   const Loaded l = loadSkill(o.skill);
   const std::string runDir = o.runDir.empty() ? "runs/" + o.skill : o.runDir;
-  const std::string source = std::filesystem::exists(runDir + "/best.bin") ? runDir + "/best.bin" : "";
-  if (source.empty()) throw engine::Error(runDir + "/best.bin: no evaluated policy to export yet");
+  ai::PolicyState p;
   ai::PolicyInfo info;
-  const ai::PolicyState p = ai::loadPolicyState(source, &info);
+  std::string source;
+  if (o.exportFrom == "last") {
+    source = runDir + "/checkpoint.bin";
+    const ai::TrainerCheckpoint c = ai::loadCheckpoint(source);
+    p = c.policy;
+    info.iteration = c.iteration;
+    info.envSteps = c.envSteps;
+  } else {
+    source = runDir + "/best.bin";
+    if (!std::filesystem::exists(source)) throw engine::Error(source + ": no evaluated policy to export yet");
+    p = ai::loadPolicyState(source, &info);
+  }
   const std::string modelsDir = o.modelsDir.empty() ? l.tree.directory : o.modelsDir;
   exportSkill(l.model, *l.skill, p, modelsDir + "/" + l.skill->model, modelsDir + "/" + l.skill->name + ".policy.bin",
               info.envSteps, o.seed);
-  std::printf("exported %s from %s (iteration %lld, %lld env steps, score %.3f)\n", l.skill->model.c_str(),
-              source.c_str(), (long long)info.iteration, (long long)info.envSteps, info.score);
+  std::printf("exported %s from %s (iteration %lld, %lld env steps)\n", l.skill->model.c_str(), source.c_str(),
+              (long long)info.iteration, (long long)info.envSteps);
   return 0;
 }
 
 int runEval(const EvalOptions& o) {
   const Loaded l = loadSkill(o.skill);
   if (o.skill != "walk") throw engine::Error("eval: only the walk card exists so far");
-  const std::string onnxPath = l.tree.directory + "/" + l.skill->model;
+  const std::string onnxPath = o.model.empty() ? l.tree.directory + "/" + l.skill->model : o.model;
   const ai::LoadedPolicy policy = ai::loadPolicyOnnx(onnxPath);
   if (policy.observationSize() != robot::kObservationSize || policy.actionSize() != robot::kActionSize)
     throw engine::Error(onnxPath + ": network sizes do not match the shared layout");

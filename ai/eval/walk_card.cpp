@@ -31,6 +31,7 @@ struct Episode {
   int nextPush = 0, segmentStart = 0;
   double speedError = 0, yawError = 0;
   int counted = 0;
+  int alive = 0;  // ticks survived
 };
 
 void sampleCommand(Episode& e) {
@@ -94,6 +95,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       }
       e.sensors = e.robot->sense(*e.world);
       const int tick = t + 1;
+      ++e.alive;
       if (std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||
           e.sensors.basePosition.z() < walk.termination.minHeight) {
         e.fallen = true;
@@ -143,13 +145,15 @@ CardResult runWalkCard(const robot::RobotModel& model, const robot::SkillDef& wa
   runBatch(model, walk, policy, o, standing, int(std::lround(o.standSeconds / engine::kTickSeconds)), false, pool);
 
   int upright = 0;
-  double speed = 0, yaw = 0;
+  double speed = 0, yaw = 0, survival = 0;
+  const double walkTicks = std::lround(o.episodeSeconds / engine::kTickSeconds);
   long counted = 0;
   for (const Episode& e : walking) {
     upright += !e.fallen;
     speed += e.speedError;
     yaw += e.yawError;
     counted += e.counted;
+    survival += e.alive / walkTicks / std::max(1, o.episodes);
   }
   double drift = 0;
   int standFalls = 0;
@@ -164,10 +168,12 @@ CardResult runWalkCard(const robot::RobotModel& model, const robot::SkillDef& wa
   r.figures.push_back({"episodes without a fall", noFall, ">= 95 %", noFall >= 95.0});
   r.figures.push_back({"mean |v - v_cmd|", meanSpeed, "<= 0.15 m/s", meanSpeed <= 0.15});
   r.figures.push_back({"mean |wz - wz_cmd|", meanYaw, "<= 0.2 rad/s", meanYaw <= 0.2});
+  r.figures.push_back({"mean time survived (of each episode)", 100.0 * survival, "(reported)", true});
   r.figures.push_back({"zero command: max drift over 10 s", standFalls ? 1e9 : drift, "< 0.2 m", !standFalls && drift < 0.2});
   r.pass = true;
   for (const CardFigure& f : r.figures) r.pass = r.pass && f.pass;
-  r.score = noFall / 100.0 - std::min(meanSpeed, 2.0) - 0.5 * std::min(meanYaw, 2.0) - (standFalls ? 1.0 : std::min(drift, 1.0));
+  // survival counts twice so that a policy cannot score by falling before tracking errors accumulate
+  r.score = 2.0 * survival + noFall / 100.0 - std::min(meanSpeed, 2.0) - 0.5 * std::min(meanYaw, 2.0) - (standFalls ? 1.0 : std::min(drift, 1.0));
   return r;
 }
 
