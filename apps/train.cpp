@@ -92,7 +92,10 @@ Loaded loadSkill(const std::string& name) {
 
 void printCard(const ai::CardResult& card) {
   for (const ai::CardFigure& f : card.figures)
-    std::printf("  %-36s %10.3f   bar %-14s %s\n", f.name.c_str(), f.value, f.bar.c_str(), f.pass ? "PASS" : "FAIL");
+    if (f.bar[0] == '(')
+      std::printf("  %-36s %10.3f   %s\n", f.name.c_str(), f.value, f.bar.c_str());
+    else
+      std::printf("  %-36s %10.3f   bar %-14s %s\n", f.name.c_str(), f.value, f.bar.c_str(), f.pass ? "PASS" : "FAIL");
   std::printf("  %s\n", card.pass ? "CARD PASSED" : "CARD FAILED");
 }
 
@@ -144,7 +147,10 @@ int runTrain(const TrainOptions& o) {
   };
 
   ai::Trainer trainer(env, config, options);
-  if (!o.resume && !skill.parent.empty()) {
+  if (!o.resume && !o.initFrom.empty()) {
+    trainer.initialiseFrom(ai::loadPolicyState(o.initFrom), float(o.reinflateLogStd));
+    std::printf("initialised from %s (fine-tuning: fresh optimiser and schedules)\n", o.initFrom.c_str());
+  } else if (!o.resume && !skill.parent.empty()) {
     const robot::SkillDef* parent = l.tree.find(skill.parent);
     const std::string parentPolicy = l.tree.directory + "/" + parent->name + ".policy.bin";
     trainer.initialiseFrom(ai::loadPolicyState(parentPolicy), float(o.reinflateLogStd));

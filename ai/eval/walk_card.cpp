@@ -32,6 +32,8 @@ struct Episode {
   double speedError = 0, yawError = 0;
   int counted = 0;
   int alive = 0;  // ticks survived
+  double kindError[4] = {0, 0, 0, 0};  // speed error by command kind: forward/back, sideways, turn, zero
+  int kindCount[4] = {0, 0, 0, 0};
 };
 
 void sampleCommand(Episode& e) {
@@ -107,7 +109,11 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         const Eigen::Vector3d vWorld = e.sensors.baseRotation * e.sensors.linearVelocity;
         const Eigen::Vector2d v(std::cos(yaw) * vWorld.x() + std::sin(yaw) * vWorld.y(),
                                 -std::sin(yaw) * vWorld.x() + std::cos(yaw) * vWorld.y());
-        e.speedError += (v - Eigen::Vector2d(e.command.vx, e.command.vy)).norm();
+        const double err = (v - Eigen::Vector2d(e.command.vx, e.command.vy)).norm();
+        e.speedError += err;
+        const int kind = e.command.vx != 0 ? 0 : e.command.vy != 0 ? 1 : e.command.wz != 0 ? 2 : 3;
+        e.kindError[kind] += err;
+        ++e.kindCount[kind];
         const double wz = (e.sensors.baseRotation * e.sensors.angularVelocity).z();
         e.yawError += std::abs(wz - e.command.wz);
         ++e.counted;
@@ -144,6 +150,8 @@ CardResult runWalkCard(const robot::RobotModel& model, const robot::SkillDef& wa
   for (Episode& e : standing) e.rng.seed(seeder());
   runBatch(model, walk, policy, o, standing, int(std::lround(o.standSeconds / engine::kTickSeconds)), false, pool);
 
+  double kindError[4] = {0, 0, 0, 0};
+  long kindCount[4] = {0, 0, 0, 0};
   int upright = 0;
   double speed = 0, yaw = 0, survival = 0;
   const double walkTicks = std::lround(o.episodeSeconds / engine::kTickSeconds);
@@ -153,6 +161,10 @@ CardResult runWalkCard(const robot::RobotModel& model, const robot::SkillDef& wa
     speed += e.speedError;
     yaw += e.yawError;
     counted += e.counted;
+    for (int k = 0; k < 4; ++k) {
+      kindError[k] += e.kindError[k];
+      kindCount[k] += e.kindCount[k];
+    }
     survival += e.alive / walkTicks / std::max(1, o.episodes);
   }
   double drift = 0;
@@ -168,6 +180,9 @@ CardResult runWalkCard(const robot::RobotModel& model, const robot::SkillDef& wa
   r.figures.push_back({"episodes without a fall", noFall, ">= 95 %", noFall >= 95.0});
   r.figures.push_back({"mean |v - v_cmd|", meanSpeed, "<= 0.15 m/s", meanSpeed <= 0.15});
   r.figures.push_back({"mean |wz - wz_cmd|", meanYaw, "<= 0.2 rad/s", meanYaw <= 0.2});
+  const char* kinds[4] = {"  of which forward/backward", "  of which sideways", "  of which turning", "  of which zero command"};
+  for (int k = 0; k < 4; ++k)
+    r.figures.push_back({kinds[k], kindCount[k] ? kindError[k] / double(kindCount[k]) : 0.0, "(reported)", true});
   r.figures.push_back({"mean time survived (of each episode)", 100.0 * survival, "(reported)", true});
   r.figures.push_back({"zero command: max drift over 10 s", standFalls ? 1e9 : drift, "< 0.2 m", !standFalls && drift < 0.2});
   r.pass = true;
