@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/fixtures.h"
+
 #include "engine/core/file_io.h"
 #include "engine/core/hash.h"
 #include "engine/input/key_script.h"
@@ -10,12 +12,9 @@
 
 namespace {
 
-const std::string kSource = TREELEARN_SOURCE_DIR;
+using fixtures::kSource;
 
-const robot::RobotModel& model() {
-  static const robot::RobotModel m = robot::loadRobotModel(kSource + "/assets/robots/g1_23dof.toml");
-  return m;
-}
+const robot::RobotModel& model() { return fixtures::robotModel(); }
 const levels::Level& steps() {
   static const levels::Level l = levels::loadLevel(kSource + "/levels/steps");
   return l;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/fixtures.h"
+
 #include <cmath>
 
 #include "game/play.h"
@@ -12,12 +14,9 @@
 
 namespace {
 
-const std::string kSource = TREELEARN_SOURCE_DIR;
+using fixtures::kSource;
 
-const robot::RobotModel& model() {
-  static const robot::RobotModel m = robot::loadRobotModel(kSource + "/assets/robots/g1_23dof.toml");
-  return m;
-}
+const robot::RobotModel& model() { return fixtures::robotModel(); }
 
 }  // namespace
 

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/fixtures.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,12 +13,9 @@
 
 namespace {
 
-const std::string kSource = TREELEARN_SOURCE_DIR;
+using fixtures::kSource;
 
-const robot::RobotModel& model() {
-  static const robot::RobotModel m = robot::loadRobotModel(kSource + "/assets/robots/g1_23dof.toml");
-  return m;
-}
+const robot::RobotModel& model() { return fixtures::robotModel(); }
 
 }  // namespace
 
