@@ -201,6 +201,15 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     else if (!tree.find(s.parent)) throw Error(located(path, s.line, "skill." + s.name + ": unknown parent '" + s.parent + "'"));
   }
   if (roots != 1) throw Error(located(path, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
+  // every chain of parents must reach the root (no cycles)
+  for (const SkillDef& s : tree.skills) {
+    const SkillDef* at = &s;
+    for (size_t hops = 0; !at->parent.empty(); ++hops) {
+      if (hops > tree.skills.size())
+        throw Error(located(path, s.line, "skill." + s.name + ": its parents form a cycle and never reach the root"));
+      at = tree.find(at->parent);
+    }
+  }
   return tree;
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 
 #include "engine/core/error.h"
 
@@ -114,4 +115,10 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf("[skill.walk]\nparent = \"nothing\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" + gains)
                 .find("unknown parent 'nothing'"),
             std::string::npos);
+  const std::string cycle = "[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" + gains +
+                            "[skill.a]\nparent = \"b\"\nkey = 1\n[skill.a.rewards]\nlive = 1\n" +
+                            std::regex_replace(gains, std::regex("walk"), "a") +
+                            "[skill.b]\nparent = \"a\"\nkey = 2\n[skill.b.rewards]\nlive = 1\n" +
+                            std::regex_replace(gains, std::regex("walk"), "b");
+  EXPECT_NE(errorOf(cycle).find("cycle"), std::string::npos) << errorOf(cycle);
 }
