@@ -19,10 +19,6 @@
 #include "engine/core/hash.h"
 #include "robot/kinematics.h"
 
-#ifndef TREELEARN_SOURCE_DIR
-#define TREELEARN_SOURCE_DIR "."
-#endif
-
 namespace robot {
 
 const std::array<const char*, kNumJoints> kJointNames = {
@@ -257,10 +253,6 @@ RobotModel loadRobotModel(const std::string& configPath) {
   return model;
 }
 
-std::string defaultRobotConfigPath() {
-  const std::string local = "assets/robots/g1_23dof.toml";
-  if (std::filesystem::exists(local)) return local;
-  return std::string(TREELEARN_SOURCE_DIR) + "/" + local;
-}
+std::string defaultRobotConfigPath() { return engine::projectFile("assets/robots/g1_23dof.toml"); }
 
 }  // namespace robot

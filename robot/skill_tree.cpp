@@ -213,10 +213,6 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
   return tree;
 }
 
-std::string defaultSkillTreePath() {
-  const std::string local = "assets/skills/tree.toml";
-  if (std::filesystem::exists(local)) return local;
-  return std::string(TREELEARN_SOURCE_DIR) + "/" + local;
-}
+std::string defaultSkillTreePath() { return engine::projectFile("assets/skills/tree.toml"); }
 
 }  // namespace robot

@@ -80,6 +80,12 @@ void writeFileAtomic(const std::string& path, std::string_view bytes) {
   }
 }
 
+std::string projectFile(const std::string& relative) {
+  std::error_code ec;
+  if (std::filesystem::exists(relative, ec)) return relative;
+  return std::string(TREELEARN_SOURCE_DIR) + "/" + relative;
+}
+
 void makeDirectories(const std::string& path) {
   std::error_code ec;
   std::filesystem::create_directories(path, ec);

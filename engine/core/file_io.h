@@ -15,6 +15,10 @@ std::string readFile(const std::string& path);
 /// (the temp file is removed and any existing file at path is left untouched).
 void writeFileAtomic(const std::string& path, std::string_view bytes);
 
+/// A project file by its path relative to the source tree: as given if it exists from the working directory,
+/// else under the source tree this binary was built from (so build/treelearn works from any folder).
+std::string projectFile(const std::string& relative);
+
 /// Creates a directory and its parents if missing. Throws engine::Error on failure.
 void makeDirectories(const std::string& path);
 
