@@ -6,6 +6,7 @@
 #include <string>
 
 #include "ai/ppo/ppo.h"
+#include "game/skill_set.h"
 #include "robot/skill_tree.h"
 
 namespace apps {
@@ -41,14 +42,36 @@ struct TrainOptions {
 struct EvalOptions {
   std::string skill;
   std::string model;  ///< ONNX file to evaluate (default: the skill's shipped model)
-  int episodes = 50;
+  int episodes = 0;  ///< 0 = the card's own count
   uint64_t seed = 1;
   int threads = 2;
+  bool sweep = false;  ///< print achieved against commanded speeds instead of the card
 };
 
+/// `treelearn eval switches` options.
+struct SwitchEvalOptions {
+  int trials = 10;           ///< per ordered pair
+  uint64_t seed = 1;
+  int threads = 2;
+  double barPercent = 95.0;  ///< success needed on every pair
+};
+
+/// Runs every allowed switch (tree edges, both directions) and prints the report; exit 0 when all pass.
+int runSwitchEval(const SwitchEvalOptions& options);
+
+/// Every skill of the tree whose ONNX model exists, loaded once (models checked against their tree entries);
+/// the set's hash covers the tree file and the models.
+game::SkillSet loadSkills(const robot::RobotModel& model);
+
 int runTrain(const TrainOptions& options);
+/// `treelearn tree`: the skill tree with parents, keys, model hashes and each shipped model's recorded card.
+int runTree();
+/// Where `treelearn eval SKILL` keeps the shipped model's card: assets/skills/SKILL.card.txt.
+std::string cardRecordPath(const robot::SkillTree& tree, const robot::SkillDef& skill);
 int runExport(const TrainOptions& options);
 int runEval(const EvalOptions& options);
+/// `treelearn eval all`: every skill's card, then the switches; exit 0 when everything passes.
+int runEvalAll(const EvalOptions& options);
 
 /// Writes a skill's ONNX file (with DESIGN.md §3 metadata) and its full policy state (for branches).
 void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, const ai::PolicyState& policy,

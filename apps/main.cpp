@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "ai/onnx/policy_onnx.h"
+#include "ai/onnx/skill_metadata.h"
 #include "apps/commands.h"
 #include "robot/skill_layout.h"
 #include "engine/core/error.h"
@@ -24,26 +25,6 @@ namespace {
 constexpr int kExitExpectationFailed = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kFrameWidth = 640, kFrameHeight = 360;
-
-// every skill of the tree whose ONNX model exists, loaded once; the hash covers the tree file and the models
-game::SkillSet loadSkills(const robot::RobotModel& model) {
-  game::SkillSet set;
-  const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
-  engine::Hasher h;
-  const std::string treeText = engine::readFile(tree.path);
-  h.bytes(treeText.data(), treeText.size());
-  for (const robot::SkillDef& def : tree.skills) {
-    const std::string path = tree.directory + "/" + def.model;
-    if (!std::filesystem::exists(path)) continue;
-    auto policy = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(path));
-    if (policy->observationSize() != robot::kObservationSize || policy->actionSize() != robot::kActionSize)
-      throw engine::Error(path + ": network sizes do not match the shared observation/action layout");
-    h.value(ai::onnxFileHash(path));
-    set.skills.push_back({def, [policy](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { policy->act(o, a); }});
-  }
-  set.hash = set.skills.empty() ? 0 : h.value();
-  return set;
-}
 
 struct OutputOptions {
   std::string framesDir, videoPath;
@@ -135,7 +116,7 @@ int cmdPlay(const PlayArgs& a) {
   const levels::Level level = levels::loadLevel(a.level);
   for (const std::string* f : {&a.record, &a.summary, &a.out.videoPath}) makeParentDirectory(*f);
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
-  const game::SkillSet skills = loadSkills(model);
+  const game::SkillSet skills = apps::loadSkills(model);
   if (a.autopilot) throw engine::Error("--autopilot: no autopilot yet (it arrives with the Mario level)");
   if (!a.expect.empty() && a.expect != "alive" && a.expect != "win")
     throw engine::Error("--expect must be 'alive' or 'win', not '" + a.expect + "'");
@@ -202,7 +183,7 @@ int cmdReplay(const ReplayArgs& a) {
   if (model.hash != replay.robotHash)
     throw engine::Error(a.file + ": the robot model has changed since recording (hash " + engine::toHex(model.hash) +
                         ", replay has " + engine::toHex(replay.robotHash) + ")");
-  const game::SkillSet skills = loadSkills(model);
+  const game::SkillSet skills = apps::loadSkills(model);
   if (replay.skillsHash != skills.hash)
     throw engine::Error(a.file + ": the skill models have changed since recording (hash " + engine::toHex(skills.hash) +
                         ", replay has " + engine::toHex(replay.skillsHash) + "); record it again");
@@ -284,18 +265,21 @@ int main(int argc, char** argv) {
   trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")->check(CLI::Range(0, 100000));
   trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd, "Branch init: raise the inherited log-std to at least this");
   trainCmd->add_option("--init-from", train.initFrom, "Start from this policy file (e.g. assets/skills/walk.policy.bin) to fine-tune");
-  trainCmd->add_option("--models-dir", train.modelsDir, "Folder for the exported ONNX and policy files (default assets/skills)");
+  trainCmd->add_option("--models-dir", train.modelsDir, "Folder the parent's policy is read from and the ONNX and policy files are written to (default assets/skills)");
   trainCmd->add_option("--export-from", train.exportFrom, "With --export-only: best (best.bin) or last (checkpoint.bin)")
       ->check(CLI::IsMember({"best", "last"}));
   trainCmd->add_flag("--export-only", train.exportOnly, "Only export the run's best policy to assets/skills/ (no training)");
 
+  CLI::App* treeCmd = app.add_subcommand("tree", "Show the skill tree: keys, parents, model hashes, card results");
+
   apps::EvalOptions eval;
   CLI::App* evalCmd = app.add_subcommand("eval", "Run a skill's report card in physics; exit 0 when it passes");
-  evalCmd->add_option("skill", eval.skill, "Skill name")->required();
+  evalCmd->add_option("skill", eval.skill, "Skill name, 'switches' (every allowed skill switch) or 'all' (every card, then the switches)")->required();
   evalCmd->add_option("--model", eval.model, "ONNX file to evaluate (default: the skill's model in assets/skills)");
-  evalCmd->add_option("--episodes", eval.episodes, "Episodes (default 50)")->check(CLI::Range(1, 100000));
+  evalCmd->add_option("--episodes", eval.episodes, "Episodes (default: the card's own count, 50 for walk); for switches: trials per switch (default 10)")->check(CLI::Range(1, 100000));
   evalCmd->add_option("--seed", eval.seed, "Seed (default 1)");
   evalCmd->add_option("--threads", eval.threads, "Threads")->check(CLI::Range(1, 64));
+  evalCmd->add_flag("--sweep", eval.sweep, "Walk: hold fixed commands and print achieved against commanded speeds");
 
   try {
     app.parse(argc, argv);
@@ -307,7 +291,16 @@ int main(int argc, char** argv) {
     if (*replayCmd) return cmdReplay(replay);
     if (*benchCmd) return apps::runBench(bench);
     if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
+    if (*evalCmd && eval.skill == "switches") {
+      apps::SwitchEvalOptions sw;
+      if (eval.episodes > 0) sw.trials = eval.episodes;
+      sw.seed = eval.seed;
+      sw.threads = eval.threads;
+      return apps::runSwitchEval(sw);
+    }
+    if (*evalCmd && eval.skill == "all") return apps::runEvalAll(eval);
     if (*evalCmd) return apps::runEval(eval);
+    if (*treeCmd) return apps::runTree();
   } catch (const engine::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitBadInput;

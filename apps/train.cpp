@@ -4,11 +4,13 @@
 #include <csignal>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
 #include "ai/env/skill_env.h"
-#include "ai/eval/walk_card.h"
+#include "ai/eval/velocity_card.h"
+#include "ai/onnx/skill_metadata.h"
 #include "ai/onnx/policy_onnx.h"
 #include "ai/ppo/checkpoint.h"
 #include "ai/ppo/ppo_config.h"
@@ -27,48 +29,6 @@ ai::Trainer* gTrainer = nullptr;  // apps/ only: lets Ctrl-C stop training clean
 
 void onSigint(int) {
   if (gTrainer) gTrainer->requestStop();
-}
-
-std::string joinNumbers(const double* v, size_t n) {
-  std::ostringstream s;
-  s.precision(9);
-  for (size_t i = 0; i < n; ++i) s << (i ? "," : "") << v[i];
-  return s.str();
-}
-
-// DESIGN.md §3: the metadata every skill file carries
-std::vector<std::pair<std::string, std::string>> skillMetadata(const robot::RobotModel& model,
-                                                                const robot::SkillDef& skill, int64_t envSteps,
-                                                                uint64_t seed) {
-  std::string joints;
-  robot::JointArray defaults{};
-  for (size_t j = 0; j < size_t(robot::kNumJoints); ++j) {
-    joints += (j ? "," : "") + model.joints[j].name;
-    defaults[j] = model.joints[j].defaultPosition;
-  }
-  const char* prior = skill.prior.kind == robot::PriorDef::Kind::Phase ? "phase" : "none";
-  return {
-      {"treelearn.skill", skill.name},
-      {"treelearn.parent", skill.parent},
-      {"treelearn.key", std::to_string(skill.key)},
-      {"treelearn.layout_version", std::to_string(robot::kLayoutVersion)},
-      {"treelearn.observation_size", std::to_string(robot::kObservationSize)},
-      {"treelearn.action_size", std::to_string(robot::kActionSize)},
-      {"treelearn.joint_order", joints},
-      {"treelearn.default_pose", joinNumbers(defaults.data(), defaults.size())},
-      {"treelearn.action_scale", joinNumbers(skill.actionScale.data(), skill.actionScale.size())},
-      {"treelearn.action_clip", std::to_string(robot::kActionClip)},
-      {"treelearn.kp", joinNumbers(skill.kp.data(), skill.kp.size())},
-      {"treelearn.kd", joinNumbers(skill.kd.data(), skill.kd.size())},
-      {"treelearn.control_rate_hz", "100"},
-      {"treelearn.physics_substep_s", "0.002"},
-      {"treelearn.prior", std::string(prior) + " T1=" + std::to_string(skill.prior.halfPeriodTicks) +
-                              " dh=" + std::to_string(skill.prior.dh) + " d0=" + std::to_string(skill.prior.d0) +
-                              " stand_still=" + (skill.prior.standStill ? "true" : "false")},
-      {"treelearn.robot_hash", engine::toHex(model.hash)},
-      {"treelearn.env_steps", std::to_string(envSteps)},
-      {"treelearn.seed", std::to_string(seed)},
-  };
 }
 
 struct Loaded {
@@ -90,13 +50,18 @@ Loaded loadSkill(const std::string& name) {
   return l;
 }
 
-void printCard(const ai::CardResult& card) {
-  for (const ai::CardFigure& f : card.figures)
+std::string cardText(const ai::CardResult& card) {
+  std::string out;
+  char line[256];
+  for (const ai::CardFigure& f : card.figures) {
     if (f.bar[0] == '(')
-      std::printf("  %-36s %10.3f   %s\n", f.name.c_str(), f.value, f.bar.c_str());
+      std::snprintf(line, sizeof line, "  %-44s %10.3f   %s\n", f.name.c_str(), f.value, f.bar.c_str());
     else
-      std::printf("  %-36s %10.3f   bar %-14s %s\n", f.name.c_str(), f.value, f.bar.c_str(), f.pass ? "PASS" : "FAIL");
-  std::printf("  %s\n", card.pass ? "CARD PASSED" : "CARD FAILED");
+      std::snprintf(line, sizeof line, "  %-44s %10.3f   bar %-14s %s\n", f.name.c_str(), f.value, f.bar.c_str(),
+                    f.pass ? "PASS" : "FAIL");
+    out += line;
+  }
+  return out + (card.pass ? "  CARD PASSED\n" : "  CARD FAILED\n");
 }
 
 }  // namespace
@@ -121,14 +86,12 @@ int runTrain(const TrainOptions& o) {
   options.seed = o.seed;
   options.resume = o.resume;
   options.evalEvery = std::max(1, o.evalEvery);
-  if (skill.name == "walk" && o.evalEvery > 0) {
+  if (skill.card.kind != robot::CardDef::Kind::None && o.evalEvery > 0) {
     options.evaluate = [&](const ai::PolicyState& p) {
-      ai::WalkCardOptions card;
-      card.episodes = 10;
-      card.standEpisodes = 4;
-      card.seed = 1000 + o.seed;  // fixed, so resumed runs score identically
-      card.threads = o.threads;
-      const ai::CardResult r = ai::runWalkCard(
+      ai::CardRun card{skill.card, 1000 + o.seed, o.threads};  // a fixed seed, so resumed runs score identically
+      card.card.episodes = 10;
+      card.card.standEpisodes = std::min(4, skill.card.standEpisodes);
+      const ai::CardResult r = ai::runVelocityCard(
           l.model, skill, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { ai::actDeterministic(p, obs, act); },
           card);
       std::printf("  eval: ");
@@ -143,6 +106,7 @@ int runTrain(const TrainOptions& o) {
                 (long long)p.iteration, (long long)p.totalIterations, (long long)p.envSteps, p.stepsPerSecond,
                 p.etaSeconds / 60.0, p.meanReward, p.meanEpisodeReturn, p.meanEpisodeLength, p.stats.approxKl,
                 p.stats.clipFraction, p.stats.explainedVariance);
+    if (!p.curriculumNote.empty()) std::printf("  %s\n", p.curriculumNote.c_str());
     std::fflush(stdout);
   };
 
@@ -152,7 +116,10 @@ int runTrain(const TrainOptions& o) {
     std::printf("initialised from %s (fine-tuning: fresh optimiser and schedules)\n", o.initFrom.c_str());
   } else if (!o.resume && !skill.parent.empty()) {
     const robot::SkillDef* parent = l.tree.find(skill.parent);
-    const std::string parentPolicy = l.tree.directory + "/" + parent->name + ".policy.bin";
+    const std::string parentPolicy = modelsDir + "/" + parent->name + ".policy.bin";
+    if (!std::filesystem::exists(parentPolicy))
+      throw engine::Error(parentPolicy + ": the parent skill '" + parent->name + "' has no policy file yet: train " +
+                          parent->name + " first (a branch starts from its parent's weights)");
     trainer.initialiseFrom(ai::loadPolicyState(parentPolicy), float(o.reinflateLogStd));
     std::printf("initialised from parent '%s' (%s)\n", parent->name.c_str(), parentPolicy.c_str());
   }
@@ -181,7 +148,7 @@ void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, c
   e.obsMean = policy.normalizer.mean();
   e.obsStd = policy.normalizer.stddev();
   e.obsClip = policy.normalizer.clip();
-  e.metadata = skillMetadata(model, skill, envSteps, seed);
+  e.metadata = ai::skillMetadata(model, skill, envSteps, seed);
   ai::savePolicyOnnx(onnxPath, e);
   ai::savePolicyState(policyPath, policy);
 }
@@ -213,23 +180,99 @@ int runExport(const TrainOptions& o) {
 
 int runEval(const EvalOptions& o) {
   const Loaded l = loadSkill(o.skill);
-  if (o.skill != "walk") throw engine::Error("eval: only the walk card exists so far");
+  const robot::CardDef& def = l.skill->card;
+  if (def.kind == robot::CardDef::Kind::None)
+    throw engine::Error(l.tree.path + ": skill '" + o.skill + "' has no [skill." + o.skill + ".card] table, so it has no report card");
   const std::string onnxPath = o.model.empty() ? l.tree.directory + "/" + l.skill->model : o.model;
   const ai::LoadedPolicy policy = ai::loadPolicyOnnx(onnxPath);
   if (policy.observationSize() != robot::kObservationSize || policy.actionSize() != robot::kActionSize)
     throw engine::Error(onnxPath + ": network sizes do not match the shared layout");
-  ai::WalkCardOptions card;
-  card.episodes = o.episodes;
-  card.seed = o.seed;
-  card.threads = o.threads;
-  std::printf("walk report card: %d episodes x %.0f s on flat ground with pushes, commands every %.0f s; "
-              "%d standing episodes x %.0f s (model %s, hash %s)\n",
-              card.episodes, card.episodeSeconds, card.segmentSeconds, card.standEpisodes, card.standSeconds,
-              onnxPath.c_str(), engine::toHex(ai::onnxFileHash(onnxPath)).c_str());
-  const ai::CardResult r = ai::runWalkCard(
-      l.model, *l.skill, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy.act(obs, act); }, card);
-  printCard(r);
+  ai::checkModelMatchesSkill(policy, onnxPath, l.model, *l.skill, l.tree.path);
+  const ai::PolicyFn act = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) { policy.act(obs, a); };
+  if (o.sweep) {
+    std::vector<robot::SkillCommand> commands;
+    for (double vx : {-0.6, -0.3, 0.3, 0.6, 0.9, 1.2, 1.5, 2.0}) commands.push_back({vx, 0, 0});
+    for (double vy : {-0.4, 0.4}) commands.push_back({0, vy, 0});
+    for (double wz : {-1.0, 1.0}) commands.push_back({0, 0, wz});
+    commands.push_back({0, 0, 0});
+    std::printf("%s speed sweep: each command held 10 s, no pushes, friction 1 (model %s)\n", o.skill.c_str(), onnxPath.c_str());
+    std::printf("  %6s %6s %6s   %7s %7s %7s   %s\n", "vx_cmd", "vy_cmd", "wz_cmd", "vx", "vy", "wz", "fall");
+    for (const ai::SweepRow& r : ai::runSpeedSweep(l.model, *l.skill, act, commands, 10.0, o.threads)) {
+      char fall[32] = "no";
+      if (r.fell) std::snprintf(fall, sizeof fall, "at %.2f s", r.secondsUp);
+      std::printf("  %6.2f %6.2f %6.2f   %7.3f %7.3f %7.3f   %s\n", r.command.vx, r.command.vy, r.command.wz, r.mean.x(),
+                  r.mean.y(), r.mean.z(), fall);
+    }
+    return 0;
+  }
+  ai::CardRun run{def, o.seed, o.threads};
+  if (o.episodes > 0) run.card.episodes = o.episodes;
+  char head[512];
+  std::snprintf(head, sizeof head, "%s report card: %d episodes x %.0f s with pushes %s, commands every %.0f s%s (model %s, hash %s)\n",
+                o.skill.c_str(), run.card.episodes, def.episodeSeconds, def.pushes ? "on" : "off", def.segmentSeconds,
+                def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
+                                     std::to_string(int(def.standSeconds)) + " s").c_str() : "",
+                onnxPath.c_str(), engine::toHex(ai::onnxFileHash(onnxPath)).c_str());
+  std::fputs(head, stdout);
+  std::fflush(stdout);
+  const ai::CardResult r = ai::runVelocityCard(l.model, *l.skill, act, run);
+  const std::string text = head + cardText(r);
+  std::fputs(text.c_str() + std::strlen(head), stdout);
+  // the shipped model's card with the card's own episodes and seed is kept next to it (for `treelearn tree`);
+  // a record of the same model file must come out identical: training other skills never changes a skill
+  if (o.model.empty() && o.episodes == 0 && o.seed == 1) {
+    const std::string record = cardRecordPath(l.tree, *l.skill);
+    const bool same = std::filesystem::exists(record) &&
+                      engine::readFile(record).find(engine::toHex(ai::onnxFileHash(onnxPath))) != std::string::npos;
+    if (same && engine::readFile(record) != text) {
+      std::printf("  RETENTION FAILED: the card differs from the one recorded for this model in %s\n", record.c_str());
+      return 1;
+    }
+    if (same) std::printf("  identical to the card recorded for this model in %s\n", record.c_str());
+    else engine::writeFileAtomic(record, text), std::printf("  recorded in %s\n", record.c_str());
+  }
   return r.pass ? 0 : 1;
+}
+
+int runEvalAll(const EvalOptions& o) {
+  const robot::RobotModel model = robot::loadRobotModel(engine::projectFile("assets/robots/g1_23dof.toml"));
+  const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
+  std::vector<std::pair<std::string, std::string>> results;
+  int connected = 0;
+  for (const robot::SkillDef& s : tree.skills) {
+    const bool hasModel = std::filesystem::exists(tree.directory + "/" + s.model);
+    connected += hasModel && !s.parent.empty() && std::filesystem::exists(tree.directory + "/" + tree.find(s.parent)->model);
+    if (!hasModel) {
+      results.push_back({s.name, "FAIL (no model: treelearn train " + s.name + ")"});
+      continue;
+    }
+    if (s.card.kind == robot::CardDef::Kind::None) {
+      results.push_back({s.name, "FAIL (no card in the tree file)"});
+      continue;
+    }
+    EvalOptions one = o;
+    one.skill = s.name;
+    one.model.clear();
+    const int code = runEval(one);
+    results.push_back({s.name, code == 0 ? "PASS" : "FAIL"});
+    std::printf("\n");
+  }
+  if (connected > 0) {
+    SwitchEvalOptions sw;
+    sw.seed = o.seed;
+    sw.threads = o.threads;
+    results.push_back({"switches", runSwitchEval(sw) == 0 ? "PASS" : "FAIL"});
+  } else {
+    results.push_back({"switches", "FAIL (no two connected skills have models)"});
+  }
+  bool pass = true;
+  std::printf("\nall cards:\n");
+  for (const auto& [name, result] : results) {
+    std::printf("  %-10s %s\n", name.c_str(), result.c_str());
+    pass = pass && result == "PASS";
+  }
+  std::printf("  %s\n", pass ? "ALL PASSED" : "NOT ALL PASSED");
+  return pass ? 0 : 1;
 }
 
 }  // namespace apps

@@ -1,6 +1,7 @@
 // session.cpp — builds a level's worlds and entities and runs the per-tick system pipeline.
 #include "game/session.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -68,15 +69,18 @@ void Session::inputSystem(const std::vector<engine::KeyEvent>& events) {
 }
 
 // the requested skill drives the robot if its model is loaded; otherwise the standing controller does.
-// A switch takes effect in the tick of the request; the new skill starts with a zero previous action and
-// its own phase clock.
+// A request for a skill that is not a parent or child of the active one is routed along the tree, one switch
+// at a time, each once the robot is upright and the previous hop has run kMinHopTicks. A switch takes effect
+// in the tick it is made: the new network reads the same observation, the filtered action carries over (the
+// layouts are shared, so the joint targets do not jump) and the gait phase keeps its fraction of the cycle.
 void Session::controlSystem() {
   const int key = input_.state().skillRequest;
   const SkillRuntime* wanted = skills_ && key >= 0 ? skills_->byKey(key) : nullptr;
-  if (wanted != active_) {
-    active_ = wanted;
-    action_.fill(0.0f);
-    phase_ = robot::PhaseClock{};
+  if (wanted && wanted != active_) {
+    const SkillRuntime* next = active_ ? skills_->nextHop(*active_, *wanted) : wanted;
+    const bool direct = next == wanted;
+    const bool ready = sensors_.tilt < kSwitchMaxTilt && (direct || tick_ - activeSince_ >= kMinHopTicks);
+    if (next && ready) switchTo(next);
   }
   if (!active_) {
     robot_->setCommand(robot::Robot::standingCommand(model_));
@@ -84,10 +88,12 @@ void Session::controlSystem() {
   }
   telemetry_.skillsUsed.insert(active_->def.name);
   const engine::CommandState& c = input_.state();
+  // the keys ramp within the active skill's command ranges (setLimits); clamp too, for the ramp's way there
+  const robot::CommandDef& range = active_->def.commands;
   robot::SkillCommand command;
-  command.vx = c.vx;
-  command.vy = c.vy;
-  command.wz = c.wz;
+  command.vx = std::clamp(c.vx, std::min(range.vx.lo, 0.0), std::max(range.vx.hi, 0.0));
+  command.vy = std::clamp(c.vy, std::min(range.vy.lo, 0.0), std::max(range.vy.hi, 0.0));
+  command.wz = std::clamp(c.wz, std::min(range.wz.lo, 0.0), std::max(range.wz.hi, 0.0));
   command.amplitude = c.amplitude;
   double s, co;
   robot::phaseSignal(phase_.tp, active_->def.prior.halfPeriodTicks, &s, &co);
@@ -100,6 +106,28 @@ void Session::controlSystem() {
   robot::PdCommand pd;
   robot::skillPdCommand(model_, active_->def, action_, phase_.tp, command, &pd);
   robot_->setCommand(pd);
+}
+
+void Session::switchTo(const SkillRuntime* next) {
+  telemetry_.switches.push_back({tick_, active_ ? active_->def.name : "stand", next->def.name});
+  if (active_) {
+    // same fraction of the gait cycle under the new period
+    const int from = active_->def.prior.halfPeriodTicks, to = next->def.prior.halfPeriodTicks;
+    phase_.tp = std::min(2 * to, int(std::lround(double(phase_.tp) * to / from)));
+  } else {
+    action_.fill(0.0f);
+    phase_ = robot::PhaseClock{};
+  }
+  active_ = next;
+  activeSince_ = tick_;
+  // the keys drive the new skill's command ranges (W to its top speed, and so on)
+  const robot::CommandDef& r = next->def.commands;
+  engine::CommandLimits limits = input_.limits();
+  limits.vxForward = std::max(r.vx.hi, 0.0);
+  limits.vxBackward = std::min(r.vx.lo, 0.0);
+  limits.vyMax = std::max(std::abs(r.vy.lo), std::abs(r.vy.hi));
+  limits.wzMax = std::max(std::abs(r.wz.lo), std::abs(r.wz.hi));
+  input_.setLimits(limits);
 }
 
 std::string Session::activeSkillName() const { return active_ ? active_->def.name : "stand"; }

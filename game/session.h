@@ -31,13 +31,25 @@ constexpr double kFallPelvisHeight = 0.45;
 /// ... or the pelvis is tilted more than this from upright [rad] (about 46 degrees).
 constexpr double kFallTilt = 0.8;
 
+/// A routed switch waits until the robot is tilted less than this [rad] ...
+constexpr double kSwitchMaxTilt = 0.35;
+/// ... and an intermediate skill of a route has run at least this many ticks.
+constexpr int kMinHopTicks = 50;
+
 struct SessionOptions {
   uint64_t seed = 1;                ///< drives every random choice (today: the initial joint jitter)
   const SkillSet* skills = nullptr;  ///< learned skills (keys 0-9); without them the standing controller runs
 };
 
+/// One skill switch.
+struct SwitchEvent {
+  int64_t tick = 0;  ///< the tick whose control step the new skill made
+  std::string from, to;
+};
+
 /// Running statistics for the summary.
 struct Telemetry {
+  std::vector<SwitchEvent> switches;
   double minPelvisHeight = 1e9, maxPelvisHeight = 0;
   double sumPelvisHeight = 0;
   double maxTilt = 0;
@@ -85,6 +97,7 @@ class Session {
   void physicsSystem();
   void rulesSystem();
   void telemetrySystem();
+  void switchTo(const SkillRuntime* next);
 
   const levels::Level& level_;
   const robot::RobotModel& model_;
@@ -98,6 +111,7 @@ class Session {
   Telemetry telemetry_;
   const SkillSet* skills_ = nullptr;
   const SkillRuntime* active_ = nullptr;  // nullptr: standing controller
+  int64_t activeSince_ = 0;               // tick of the latest switch
   std::array<float, robot::kActionSize> action_{};
   robot::PhaseClock phase_;
   Eigen::MatrixXf observation_, policyOutput_;

@@ -32,9 +32,13 @@ struct Sensors {
   JointArray qd{};                                                    ///< joint velocities [rad/s]
   std::array<bool, 2> footContact{};                                  ///< left, right
   std::array<double, 2> footForce{};                                  ///< contact normal force, left, right [N]
+  std::array<double, 2> footHeight{};  ///< sole height above z = 0, left, right [m]: foot-link origin - kSoleDepth
   Eigen::Vector3d centreOfMass = Eigen::Vector3d::Zero();             ///< world [m]
   double tilt = 0;                                                    ///< angle between pelvis Z and world Z [rad]
 };
+
+/// The sole is this far below the ankle-roll (foot) link origin (reference/g1/FACTS.md: 0.035 m).
+constexpr double kSoleDepth = 0.035;
 
 class Robot {
  public:

@@ -54,7 +54,15 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
     out->target[kRightHipPitch] -= right;
     out->target[kRightKnee] += 2.0 * right;
     out->target[kRightAnklePitch] -= right;
+    // the stride: hips swing with the forward command, ankles keep the soles parallel to the ground
+    const double swing = skill.prior.stride * command.vx * std::cos(M_PI * tp / skill.prior.halfPeriodTicks);
+    out->target[kLeftHipPitch] += swing;
+    out->target[kLeftAnklePitch] -= swing;
+    out->target[kRightHipPitch] -= swing;
+    out->target[kRightAnklePitch] += swing;
   }
+  if (skill.prior.kind == PriorDef::Kind::Pose)
+    for (size_t j = 0; j < size_t(kNumJoints); ++j) out->target[j] += command.amplitude * skill.prior.poseOffset[j];
   for (size_t j = 0; j < size_t(kNumJoints); ++j)
     out->target[j] = std::clamp(out->target[j], model.joints[j].lower, model.joints[j].upper);
 }

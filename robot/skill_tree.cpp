@@ -66,7 +66,8 @@ struct Reader {
     for (auto&& [k, v] : t) {
       const std::string group(k.str());
       bool known = false;
-      for (const char* g : kGroups) known = known || group == g;
+      for (const char* g : kGroups)  // "knee" means both knees, "left_knee" only the left one
+        known = known || group == g || group == std::string("left_") + g || group == std::string("right_") + g;
       if (!known) throw Error(located(file, line(v), where + ": unknown joint group '" + group + "'"));
       double x, y = 0;
       if (b) {
@@ -109,6 +110,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
   }
   r.onlyKeys(root, {"ppo", "skill"}, "the skill tree");
   SkillTree tree;
+  struct Given {
+    bool gains = false, actionScale = false, actionFilter = false, termination = false, randomisation = false;
+  };
+  std::map<std::string, Given> given;  // which inheritable tables each skill wrote itself
   tree.path = path;
   tree.directory = std::filesystem::path(path).parent_path().string();
   if (const toml::table* ppo = r.table(root, "ppo", false, "tree")) {
@@ -126,7 +131,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     const toml::table* t = v.as_table();
     if (!t) throw Error(located(path, s.line, where + " must be a table"));
     r.onlyKeys(*t, {"parent", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
-                    "termination", "randomisation", "training"},
+                    "termination", "randomisation", "training", "card", "terrain"},
                where);
     if (const toml::node* p = t->get("parent")) {
       auto v2 = p->value<std::string>();
@@ -140,24 +145,49 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
-      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still"}, where + ".prior");
+      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stride", "offset"}, where + ".prior");
       const std::string type = p->get("type") && p->get("type")->value<std::string>() ? *p->get("type")->value<std::string>() : "";
       if (type == "phase") s.prior.kind = PriorDef::Kind::Phase;
+      else if (type == "pose") s.prior.kind = PriorDef::Kind::Pose;
       else if (type == "none") s.prior.kind = PriorDef::Kind::None;
-      else throw Error(located(path, r.line(*p), where + ".prior.type must be \"phase\" or \"none\""));
+      else throw Error(located(path, r.line(*p), where + ".prior.type must be \"phase\", \"pose\" or \"none\""));
+      const toml::node* offset = p->get("offset");
+      if ((s.prior.kind == PriorDef::Kind::Pose) != (offset != nullptr))
+        throw Error(located(path, r.line(*p), where + ".prior: a \"pose\" prior needs offset = { group = rad, ... }, and only it"));
+      if (offset) {
+        if (!offset->as_table()) throw Error(located(path, r.line(*offset), where + ".prior.offset must be a table of joint groups"));
+        r.groups(*offset->as_table(), where + ".prior.offset", model, &s.prior.poseOffset, nullptr, -3, 3);
+      }
       s.prior.halfPeriodTicks = int(r.number(*p, "T1", 40, 1, 1000, where + ".prior"));
       s.prior.dh = r.number(*p, "dh", 0, -1.5, 1.5, where + ".prior");
       s.prior.d0 = r.number(*p, "d0", 0, -1.5, 1.5, where + ".prior");
+      s.prior.stride = r.number(*p, "stride", 0, 0, 1, where + ".prior");
       if (const toml::node* ss = p->get("stand_still")) s.prior.standStill = ss->value<bool>().value_or(true);
     }
-    r.groups(*r.table(*t, "gains", true, where), where + ".gains", model, &s.kp, &s.kd, 0, 5000);
-    for (size_t j = 0; j < size_t(kNumJoints); ++j)
-      if (s.kp[j] <= 0) throw Error(located(path, s.line, where + ".gains: no gain for joint " + model.joints[j].name));
-    if (const toml::table* a = r.table(*t, "action_scale", false, where))
+    Given& g = given[s.name];
+    if (const toml::table* gt = r.table(*t, "gains", false, where)) {
+      g.gains = true;
+      r.groups(*gt, where + ".gains", model, &s.kp, &s.kd, 0, 5000);
+      for (size_t j = 0; j < size_t(kNumJoints); ++j)
+        if (s.kp[j] <= 0) throw Error(located(path, s.line, where + ".gains: no gain for joint " + model.joints[j].name));
+    }
+    if (const toml::table* a = r.table(*t, "action_scale", false, where)) {
+      g.actionScale = true;
       r.groups(*a, where + ".action_scale", model, &s.actionScale, nullptr, 0, 2);
+    }
+    g.actionFilter = t->get("action_filter") != nullptr;
     s.actionFilter = r.number(*t, "action_filter", 0.0, 0.0, 0.99, where);
+    g.termination = t->get("termination") != nullptr;
+    g.randomisation = t->get("randomisation") != nullptr;
     if (const toml::table* c = r.table(*t, "commands", false, where)) {
-      r.onlyKeys(*c, {"vx", "vy", "wz", "zero_probability", "resample_s"}, where + ".commands");
+      r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "pelvis_height", "zero_probability", "resample_s"}, where + ".commands");
+      s.commands.amplitude = r.range(*c, "amplitude", {}, 0, 1, where + ".commands");
+      if (const toml::node* h = c->get("pelvis_height")) {
+        const toml::array* a = h->as_array();
+        if (!a || a->size() != 2) throw Error(located(path, r.line(*h), where + ".commands.pelvis_height must be [at amplitude 0, at 1]"));
+        s.commands.pelvisHeight = {r.number((*a)[0], where + ".commands.pelvis_height", 0.1, 1.5),
+                                   r.number((*a)[1], where + ".commands.pelvis_height", 0.1, 1.5)};
+      }
       s.commands.vx = r.range(*c, "vx", {}, -5, 5, where + ".commands");
       s.commands.vy = r.range(*c, "vy", {}, -5, 5, where + ".commands");
       s.commands.wz = r.range(*c, "wz", {}, -5, 5, where + ".commands");
@@ -192,6 +222,75 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.trainingSteps = int64_t(r.number(*tr, "steps", 1e7, 1, 1e10, where + ".training"));
       s.trainingEnvs = int(r.number(*tr, "envs", 20, 1, 1024, where + ".training"));
     }
+    if (const toml::table* tt = r.table(*t, "terrain", false, where)) {
+      const std::string w = where + ".terrain";
+      r.onlyKeys(*tt, {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at"}, w);
+      const std::string type = tt->get("type") && tt->get("type")->value<std::string>() ? *tt->get("type")->value<std::string>() : "";
+      if (type != "stairs" && type != "flat") throw Error(located(path, r.line(*tt), w + ".type must be \"stairs\" or \"flat\""));
+      TerrainDef& d = s.terrain;
+      d.kind = type == "stairs" ? TerrainDef::Kind::Stairs : TerrainDef::Kind::Flat;
+      d.steps = int(r.number(*tt, "steps", 10, 1, 100, w));
+      d.stepDepth = r.number(*tt, "step_depth", 0.3, 0.1, 2, w);
+      d.startX = r.number(*tt, "start_x", 1.0, 0, 20, w);
+      d.topDepth = r.number(*tt, "top_depth", 1.5, 0.1, 20, w);
+      d.width = r.number(*tt, "width", 4.0, 0.5, 50, w);
+      d.advanceAt = r.number(*tt, "advance_at", 1.0, -1e3, 1e3, w);
+      if (const toml::node* l = tt->get("lessons")) {
+        const toml::array* a = l->as_array();
+        if (!a || a->empty()) throw Error(located(path, r.line(*l), w + ".lessons must be a non-empty list of step heights"));
+        for (const toml::node& h : *a) d.lessons.push_back(r.number(h, w + ".lessons", 0, 0.5));
+      }
+      if (d.kind == TerrainDef::Kind::Stairs && d.lessons.empty())
+        throw Error(located(path, r.line(*tt), w + ": stairs need lessons = [step heights]"));
+    }
+    if (const toml::table* c = r.table(*t, "card", false, where)) {
+      const std::string w = where + ".card";
+      r.onlyKeys(*c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
+                      "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
+                      "height_error", "lift_height", "lift_s", "success_pct", "step_height"}, w);
+      const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
+      if (type != "velocity" && type != "height" && type != "balance" && type != "stairs")
+        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\" or \"stairs\""));
+      CardDef& d = s.card;
+      d.kind = type == "velocity" ? CardDef::Kind::Velocity
+               : type == "height" ? CardDef::Kind::Height
+               : type == "balance" ? CardDef::Kind::Balance
+                                   : CardDef::Kind::Stairs;
+      d.stepHeight = r.number(*c, "step_height", 0.15, 0, 0.5, w);
+      d.liftHeight = r.number(*c, "lift_height", 0.08, 0, 1, w);
+      d.liftSeconds = r.number(*c, "lift_s", 5, 0, 3600, w);
+      d.successPercent = r.number(*c, "success_pct", -1, -1, 100, w);
+      d.amplitude = r.range(*c, "amplitude", {}, 0, 1, w);
+      d.heightError = r.number(*c, "height_error", -1, -1, 100, w);
+      d.episodes = int(r.number(*c, "episodes", 50, 1, 100000, w));
+      d.episodeSeconds = r.number(*c, "episode_s", 20, 0.1, 3600, w);
+      d.segmentSeconds = r.number(*c, "segment_s", d.episodeSeconds, 0.1, 3600, w);
+      d.settleSeconds = r.number(*c, "settle_s", 1, 0, 3600, w);
+      d.vx = r.range(*c, "vx", {}, -5, 5, w);
+      d.vy = r.range(*c, "vy", {}, -5, 5, w);
+      d.wz = r.range(*c, "wz", {}, -5, 5, w);
+      if (const toml::node* m = c->get("mix")) {
+        const toml::array* a = m->as_array();
+        double sum = 0;
+        if (!a || a->size() != 4) throw Error(located(path, r.line(*m), w + ".mix must be 4 numbers: forward, sideways, turn, zero"));
+        for (size_t i = 0; i < 4; ++i) {
+          d.mix[i] = r.number((*a)[i], w + ".mix", 0, 1);
+          sum += d.mix[i];
+        }
+        if (std::abs(sum - 1.0) > 1e-6) throw Error(located(path, r.line(*m), w + ".mix must add up to 1"));
+      }
+      if (const toml::node* p2 = c->get("pushes")) {
+        auto b = p2->value<bool>();
+        if (!b) throw Error(located(path, r.line(*p2), w + ".pushes must be true or false"));
+        d.pushes = *b;
+      }
+      d.standEpisodes = int(r.number(*c, "stand_episodes", 0, 0, 100000, w));
+      d.standSeconds = r.number(*c, "stand_s", 10, 0.1, 3600, w);
+      d.noFallPercent = r.number(*c, "no_fall_pct", -1, -1, 100, w);
+      d.speedError = r.number(*c, "speed_error", -1, -1, 100, w);
+      d.yawError = r.number(*c, "yaw_error", -1, -1, 100, w);
+      d.standDrift = r.number(*c, "stand_drift", -1, -1, 100, w);
+    }
     tree.skills.push_back(std::move(s));
   }
   // parents exist and the tree has exactly one root
@@ -210,6 +309,26 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       at = tree.find(at->parent);
     }
   }
+  // a branch inherits the controller tables it does not write (gains, action_scale, action_filter, termination,
+  // randomisation) from its parent: resolve from the root down
+  std::set<std::string> resolved;
+  for (const SkillDef& s : tree.skills)
+    if (s.parent.empty()) {
+      if (!given[s.name].gains) throw Error(located(path, s.line, "skill." + s.name + ": the root needs a [gains] table"));
+      resolved.insert(s.name);
+    }
+  while (resolved.size() < tree.skills.size())
+    for (SkillDef& s : tree.skills) {
+      if (resolved.count(s.name) || !resolved.count(s.parent)) continue;
+      const SkillDef& p = *tree.find(s.parent);
+      const Given& g = given[s.name];
+      if (!g.gains) s.kp = p.kp, s.kd = p.kd;
+      if (!g.actionScale) s.actionScale = p.actionScale;
+      if (!g.actionFilter) s.actionFilter = p.actionFilter;
+      if (!g.termination) s.termination = p.termination;
+      if (!g.randomisation) s.randomisation = p.randomisation;
+      resolved.insert(s.name);
+    }
   return tree;
 }
 

@@ -12,13 +12,19 @@
 
 namespace robot {
 
-/// Feed-forward prior: a cosine phase signal on hip/knee/ankle pitch (paper §3.1), or none.
+/// Feed-forward prior (paper §3.1): a cosine phase signal on hip/knee/ankle pitch for periodic skills, a key
+/// pose scaled by the amplitude command for aperiodic ones (squat: default pose at 0, the full pose at 1), or none.
 struct PriorDef {
-  enum class Kind { None, Phase } kind = Kind::None;
+  enum class Kind { None, Phase, Pose } kind = Kind::None;
+  JointArray poseOffset{};   ///< Pose: joint offsets from the default pose at amplitude 1 [rad]
   int halfPeriodTicks = 40;  ///< T1: ticks per leg phase (gait period = 2 T1 ticks of 0.01 s)
   double dh = 0.0;           ///< stepping amplitude [rad]: hip -= A, knee += 2A, ankle -= A with A = dh u + d0
   double d0 = 0.0;           ///< base offset [rad] added to A
   bool standStill = true;    ///< dh = 0 while the command is zero (the lab's walk stands still)
+  /// Hip swing per forward command [rad per m/s]: the left hip pitch gets + stride vx cos(pi tp / T1) (the
+  /// right one the opposite, ankles compensate so the feet stay level): backward at lift-off, forward at
+  /// touch-down, so a leg's stance sweeps it back at about the commanded speed. 0 = stepping in place.
+  double stride = 0.0;
 };
 
 /// A [lo, hi] range.
@@ -28,6 +34,8 @@ struct Range {
 
 struct CommandDef {
   Range vx, vy, wz;              ///< sampling ranges [m/s, m/s, rad/s]
+  Range amplitude;               ///< sampling range of the amplitude command (0..1), drawn with every command
+  Range pelvisHeight{0.78, 0.78};  ///< pelvis height target at amplitude 0 (lo) and 1 (hi) [m], for height_track
   double zeroProbability = 0.2;  ///< chance that a sampled command is all zero
   double resampleSeconds = 5.0;  ///< a new command every so often
 };
@@ -43,6 +51,47 @@ struct TerminationDef {
   double maxTiltDegrees = 30;  ///< |roll| or |pitch| beyond this ends the episode as a fall
   double minHeight = 0.5;      ///< pelvis below this [m] is a fall
   double episodeSeconds = 10;  ///< time limit (a truncation, not a fall)
+};
+
+/// Terrain a skill trains on. Stairs: `steps` steps up along +X from start_x, a landing of top_depth, the same
+/// steps down; the step height comes from the curriculum's current lesson.
+struct TerrainDef {
+  enum class Kind { Flat, Stairs } kind = Kind::Flat;
+  int steps = 10;
+  double stepDepth = 0.30;      ///< tread [m]
+  double startX = 1.0;          ///< flat run-up before the first step [m]
+  double topDepth = 1.5;        ///< landing between up and down [m]
+  double width = 4.0;           ///< across the robot's path [m]
+  std::vector<double> lessons;  ///< step heights of the curriculum's lessons, in order [m]
+  double advanceAt = 1.0;       ///< smoothed reward per step that moves training to the next lesson
+};
+
+/// A skill's report card (success criteria), measured by `treelearn eval SKILL`. A bar < 0 is not checked.
+struct CardDef {
+  /// Velocity: tracking of vx / vy / wz commands (walk, run); Height: tracking of the pelvis height that the
+  /// amplitude command asks for (squat). Both run randomised episodes on flat ground the same way.
+  /// Balance: the right foot lifted (amplitude 1 held), success = lifted >= lift_height for lift_s without a fall.
+  /// Stairs: up and down the skill's staircase at step_height; success = past its far end without a fall.
+  enum class Kind { None, Velocity, Height, Balance, Stairs } kind = Kind::None;
+  int episodes = 50;            ///< randomised episodes (friction, mass, pushes as in training)
+  double episodeSeconds = 20;   ///< each episode's length
+  double segmentSeconds = 5;    ///< a new command this often
+  double settleSeconds = 1;     ///< tracking is not counted this long after a command change
+  Range vx, vy, wz;             ///< command ranges
+  Range amplitude;              ///< amplitude command range (drawn with every command)
+  std::array<double, 4> mix{0.4, 0.2, 0.2, 0.2};  ///< chance of a forward, sideways, turn or zero command
+  bool pushes = true;           ///< pushes as in the skill's randomisation
+  int standEpisodes = 0;        ///< zero-command episodes without pushes (drift)
+  double standSeconds = 10;
+  double noFallPercent = -1;    ///< bar: episodes without a fall [%] (>=)
+  double successPercent = -1;   ///< bar (Balance): episodes that succeed [%] (>=)
+  double speedError = -1;       ///< bar: mean |v - v_cmd| [m/s] (<=)
+  double yawError = -1;         ///< bar: mean |wz - wz_cmd| [rad/s] (<=)
+  double heightError = -1;      ///< bar: mean |h - h_target(amplitude)| of the pelvis [m] (<=)
+  double liftHeight = 0.08;     ///< Balance: the right sole counts as lifted at this height [m] ...
+  double liftSeconds = 5;       ///< ... and an episode succeeds when it stays lifted this long in one go
+  double stepHeight = 0.15;     ///< Stairs: the staircase's step height [m]
+  double standDrift = -1;       ///< bar: max drift of a standing episode [m] (<)
 };
 
 /// One skill of the tree.
@@ -63,6 +112,8 @@ struct SkillDef {
   int64_t trainingSteps = 10000000;
   int trainingEnvs = 20;
   bool onlyPositiveRewards = true;  ///< clip each step's total reward at 0 (falling early never pays)
+  CardDef card;
+  TerrainDef terrain;
   int line = 0;  ///< where it is defined
 };
 

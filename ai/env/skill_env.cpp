@@ -3,6 +3,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "ai/env/terrain.h"
+#include "engine/core/error.h"
 
 #include "engine/loop/clock.h"
 #include "game/session.h"
@@ -34,6 +39,7 @@ struct SkillEnv::Env {
   uint8_t terminated = 0, truncated = 0;
   float finishedReturn = 0;
   int finishedLength = 0;
+  int lesson = 0, finishedLesson = 0;  // the curriculum lesson this episode's terrain was built for
   std::array<float, robot::kObservationSize> finalObservation{};
 };
 
@@ -68,11 +74,16 @@ void SkillEnv::sampleCommand(Env& e) {
   e.command = robot::SkillCommand{};
   const double pick = unit(e.rng);
   if (pick >= c.zeroProbability) {
-    const double which = (pick - c.zeroProbability) / (1.0 - c.zeroProbability);
-    if (which < 0.5) e.command.vx = uniform(e.rng, c.vx);
-    else if (which < 0.75) e.command.vy = uniform(e.rng, c.vy);
-    else e.command.wz = uniform(e.rng, c.wz);
+    // forward gets half of the non-zero commands, sideways and turning a quarter each; a kind whose range is
+    // [0, 0] (not used by the skill) gives its share to the others
+    auto used = [](const robot::Range& r) { return r.lo != 0.0 || r.hi != 0.0; };
+    const double wx = used(c.vx) ? 0.5 : 0.0, wy = used(c.vy) ? 0.25 : 0.0, ww = used(c.wz) ? 0.25 : 0.0;
+    const double which = (pick - c.zeroProbability) / (1.0 - c.zeroProbability) * (wx + wy + ww);
+    if (which < wx) e.command.vx = uniform(e.rng, c.vx);
+    else if (which < wx + wy) e.command.vy = uniform(e.rng, c.vy);
+    else if (ww > 0) e.command.wz = uniform(e.rng, c.wz);
   }
+  if (c.amplitude.hi > 0) e.command.amplitude = uniform(e.rng, c.amplitude);
   e.nextCommandTick = e.tick + int(std::lround(c.resampleSeconds / engine::kTickSeconds));
 }
 
@@ -87,7 +98,11 @@ void SkillEnv::resetEnv(Env& e) {
   e.robot.reset();
   e.world = std::make_unique<engine::PhysicsWorld>();
   e.world->addGround(friction);
-  const double yaw = M_PI * (2.0 * unit(e.rng) - 1.0);
+  addTerrain(*e.world, skill_.terrain, stepHeight(), friction);
+  e.lesson = lesson_;
+  // on stairs the robot starts facing them (+X, within +-0.2 rad); elsewhere any heading
+  const bool stairs = skill_.terrain.kind == robot::TerrainDef::Kind::Stairs;
+  const double yaw = stairs ? 0.2 * (2.0 * unit(e.rng) - 1.0) : M_PI * (2.0 * unit(e.rng) - 1.0);
   e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0.0, 0.0, yaw, friction);
   robot::JointArray q = e.robot->command().target;
   for (double& v : q) v += 0.02 * (2.0 * unit(e.rng) - 1.0);
@@ -150,7 +165,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     ++e.tick;
 
     // reward
-    RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction};
+    RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_};
     double reward = 0;
     for (size_t k = 0; k < terms_.size(); ++k) {
       const double v = terms_[k].weight * terms_[k].term->value(ctx);
@@ -182,6 +197,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       observe(e, e.finalObservation.data());
       e.finishedReturn = float(e.episodeReturn);
       e.finishedLength = e.tick;
+      e.finishedLesson = e.lesson;
       resetEnv(e);
     }
     observe(e, result->observations.col(i).data());
@@ -204,9 +220,53 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     if (e.terminated || e.truncated) {
       result->episodeReturns.push_back(e.finishedReturn);
       result->episodeLengths.push_back(e.finishedLength);
+      // curriculum, in environment order so that it does not depend on threads: only episodes played on the
+      // current lesson count, and a lesson needs one episode per environment before it can pass
+      const std::vector<double>& lessons = skill_.terrain.lessons;
+      if (e.finishedLesson == lesson_ && lesson_ + 1 < int(lessons.size())) {
+        const double value = e.finishedReturn / double(maxTicks);
+        smoothed_ = lessonEpisodes_ > 0 ? 0.98 * smoothed_ + 0.02 * value : value;
+        ++lessonEpisodes_;
+        if (smoothed_ > skill_.terrain.advanceAt && lessonEpisodes_ >= n) {
+          ++lesson_;
+          lessonEpisodes_ = 0;
+        }
+      }
     }
     for (size_t k = 0; k < terms_.size(); ++k) result->rewardTermSums[k] += e.termSums[k];
   }
+}
+
+double SkillEnv::stepHeight() const {
+  const std::vector<double>& lessons = skill_.terrain.lessons;
+  return lessons.empty() ? 0.0 : lessons[size_t(std::min<int>(lesson_, int(lessons.size()) - 1))];
+}
+
+std::string SkillEnv::curriculumNote() const {
+  if (skill_.terrain.lessons.empty()) return {};
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "lesson %d/%zu (steps %.2f m; smoothed return per step %.2f of %.2f over %d episodes)",
+                lesson_ + 1, skill_.terrain.lessons.size(), stepHeight(), lessonEpisodes_ ? smoothed_ : 0.0,
+                skill_.terrain.advanceAt, lessonEpisodes_);
+  return buf;
+}
+
+std::string SkillEnv::saveState() const {
+  std::string out(2 * sizeof(int) + sizeof(double), '\0');
+  std::memcpy(out.data(), &lesson_, sizeof(int));
+  std::memcpy(out.data() + sizeof(int), &lessonEpisodes_, sizeof(int));
+  std::memcpy(out.data() + 2 * sizeof(int), &smoothed_, sizeof(double));
+  return out;
+}
+
+void SkillEnv::loadState(const std::string& bytes) {
+  if (bytes.empty()) return;  // a checkpoint from before curricula: lesson 0
+  if (bytes.size() != 2 * sizeof(int) + sizeof(double)) throw engine::Error("skill env state: wrong size");
+  std::memcpy(&lesson_, bytes.data(), sizeof(int));
+  std::memcpy(&lessonEpisodes_, bytes.data() + sizeof(int), sizeof(int));
+  std::memcpy(&smoothed_, bytes.data() + 2 * sizeof(int), sizeof(double));
+  if (lesson_ < 0 || (lesson_ > 0 && lesson_ >= int(skill_.terrain.lessons.size())))
+    throw engine::Error("skill env state: lesson " + std::to_string(lesson_) + " does not exist");
 }
 
 }  // namespace ai

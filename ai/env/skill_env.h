@@ -43,6 +43,15 @@ class SkillEnv final : public VecEnv {
   /// Seconds spent inside physics (substeps) during step() calls so far, summed over threads.
   double physicsSeconds() const;
 
+  /// Curriculum (terrain lessons): the lesson moves on when the smoothed episode return per time-limit step
+  /// (falls count as zero for the rest of the episode) passes the terrain's advance_at.
+  int curriculumLesson() const override { return lesson_; }
+  std::string curriculumNote() const override;
+  std::string saveState() const override;
+  void loadState(const std::string& bytes) override;
+  /// The step height of the current lesson (0 on flat terrain).
+  double stepHeight() const;
+
  private:
   struct Env;
   void resetEnv(Env& e);
@@ -55,6 +64,9 @@ class SkillEnv final : public VecEnv {
   SkillEnvOptions options_;
   WorkerPool pool_;
   std::vector<std::unique_ptr<Env>> envs_;
+  int lesson_ = 0;
+  double smoothed_ = 0;     // exponential average of return / time-limit steps over this lesson's episodes
+  int lessonEpisodes_ = 0;  // episodes finished on the current lesson
 };
 
 }  // namespace ai

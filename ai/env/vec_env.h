@@ -40,6 +40,10 @@ class VecEnv {
   /// (RNG states, episode counters, curricula; the physics state is re-created by reset semantics).
   virtual std::string saveState() const { return {}; }
   virtual void loadState(const std::string& bytes) { (void)bytes; }
+  /// The curriculum's current lesson (0 = first, or no curriculum), logged with every iteration.
+  virtual int curriculumLesson() const { return 0; }
+  /// A short human-readable note on the curriculum for progress lines ("" when there is none).
+  virtual std::string curriculumNote() const { return {}; }
 };
 
 }  // namespace ai

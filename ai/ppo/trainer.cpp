@@ -92,7 +92,7 @@ std::vector<std::string> Trainer::logColumns() const {
                                 "mean_episode_return", "mean_episode_length"};
   for (const std::string& name : env_.rewardTermNames()) c.push_back("reward_" + name);
   for (const char* name : {"entropy", "approx_kl", "clip_fraction", "explained_variance", "policy_loss", "value_loss",
-                           "grad_norm", "lr", "rollout_physics_s", "inference_s", "update_s", "eval_score"})
+                           "grad_norm", "lr", "rollout_physics_s", "inference_s", "update_s", "eval_score", "lesson"})
     c.push_back(name);
   return c;
 }
@@ -254,6 +254,7 @@ std::string Trainer::logRow(const TrainerProgress& p, const RolloutStats& r, dou
                    timing.update})
     row += "," + fmt(v);
   row += "," + (std::isnan(p.evalScore) ? std::string() : fmt(p.evalScore));
+  row += "," + std::to_string(env_.curriculumLesson());
   return row + "\n";
 }
 
@@ -329,6 +330,7 @@ void Trainer::run() {
       p.meanEpisodeLength = rollout.episodeLengthSum / double(rollout.episodes);
     }
     p.stats = stats;
+    p.curriculumNote = env_.curriculumNote();
     const double iterationSeconds = secondsSince(iterationStart);
     log << logRow(p, rollout, coefficients.learningRate, wallOffset + elapsed,
                   double(perIteration) / std::max(iterationSeconds, 1e-9), timing);

@@ -30,6 +30,7 @@ struct TrainerProgress {
   double meanEpisodeLength = std::numeric_limits<double>::quiet_NaN();  ///< steps, same episodes
   double evalScore = std::numeric_limits<double>::quiet_NaN();          ///< this iteration's evaluation (NaN: none)
   PpoStats stats;                 ///< the update's losses and diagnostics
+  std::string curriculumNote;     ///< the environment's curriculum state ("" when it has none)
 };
 
 struct TrainerOptions {

@@ -36,6 +36,14 @@ double actionRate(const RewardContext& c) {
   return -sum;
 }
 double verticalVelocity(const RewardContext& c) { return -std::abs(c.sensors->linearVelocity.z()); }
+double footLift(const RewardContext& c) {
+  const double e = (c.sensors->footHeight[1] - kFootLiftHeight * c.command->amplitude) / 0.04;
+  return std::exp(-e * e);
+}
+double heightTrack(const RewardContext& c) {
+  const double e = (c.sensors->basePosition.z() - targetPelvisHeight(*c.skill, c.command->amplitude)) / 0.05;
+  return std::exp(-e * e);
+}
 
 }  // namespace
 
@@ -49,6 +57,8 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"action_penalty", &actionPenalty, "-0.2 sum_{hip roll, hip yaw, ankle roll} |a|"},
       {"action_rate", &actionRate, "-sum_j (a_j - a_prev_j)^2"},
       {"vertical_velocity", &verticalVelocity, "-|vz|"},
+      {"height_track", &heightTrack, "exp(-((h - h_target(amplitude)) / 0.05 m)^2)"},
+      {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m amplitude) / 0.04 m)^2)"},
   };
   return kTable;
 }

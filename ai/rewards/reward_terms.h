@@ -17,7 +17,17 @@ struct RewardContext {
   const robot::SkillCommand* command = nullptr;
   const std::array<float, robot::kActionSize>* action = nullptr;          ///< clipped policy output this tick
   const std::array<float, robot::kActionSize>* previousAction = nullptr;  ///< the tick before
+  const robot::SkillDef* skill = nullptr;                                  ///< the skill being trained
 };
+
+/// foot_lift: the right sole's target height at amplitude 1 [m] (one_leg stands on the left leg).
+constexpr double kFootLiftHeight = 0.12;
+
+/// The pelvis height a skill is asked for at an amplitude command (its commands.pelvis_height, linear).
+inline double targetPelvisHeight(const robot::SkillDef& skill, double amplitude) {
+  const robot::Range& h = skill.commands.pelvisHeight;
+  return h.lo + amplitude * (h.hi - h.lo);
+}
 
 /// A named term: value(context), unweighted.
 struct RewardTerm {

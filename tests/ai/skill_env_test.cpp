@@ -85,3 +85,46 @@ TEST(SkillEnv, AFallTerminatesAndResets) {
   // the reset robot stands at the start again
   EXPECT_NEAR(r.observations(robot::kObsGravity + 2, r.terminated[0] ? 0 : 1), -1.0f, 0.01f);
 }
+
+TEST(Curriculum, LessonAdvancesWhenTheSmoothedReturnPassesTheBarAndSurvivesACheckpoint) {
+  robot::SkillDef stairs = *fixture().tree.find("stairs");
+  stairs.termination.episodeSeconds = 0.2;  // 20-tick episodes: many finish quickly
+  stairs.terrain.advanceAt = 0.01;          // a zero policy still earns a little (the total is clipped at 0)
+  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, {4, 1, false});
+  EXPECT_EQ(env.curriculumLesson(), 0);
+  EXPECT_DOUBLE_EQ(env.stepHeight(), stairs.terrain.lessons[0]);
+  Eigen::MatrixXf obs;
+  env.reset(1, &obs);
+  ai::StepResult r;
+  const Eigen::MatrixXf zero = Eigen::MatrixXf::Zero(robot::kActionSize, 4);
+  for (int s = 0; s < 20; ++s) env.step(zero, &r);  // the first 4 episodes end together: one lesson passes
+  EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
+  // the envs that reset in that step were built before the lesson changed: their episodes do not count for
+  // lesson 2, the ones after them do
+  for (int s = 0; s < 20; ++s) env.step(zero, &r);
+  EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
+  for (int s = 0; s < 20; ++s) env.step(zero, &r);
+  EXPECT_EQ(env.curriculumLesson(), 2) << env.curriculumNote();
+  for (int s = 0; s < 200; ++s) env.step(zero, &r);
+  EXPECT_EQ(env.curriculumLesson(), 3);  // the last lesson, and no further
+  EXPECT_DOUBLE_EQ(env.stepHeight(), 0.15);
+  EXPECT_NE(env.curriculumNote().find("lesson 4/4"), std::string::npos) << env.curriculumNote();
+
+  ai::SkillEnv resumed(fixture().model, stairs, fixture().tree.path, {4, 1, false});
+  resumed.loadState(env.saveState());
+  EXPECT_EQ(resumed.curriculumLesson(), 3);
+  EXPECT_EQ(resumed.saveState(), env.saveState());
+}
+
+TEST(Curriculum, NoLessonChangeBelowTheBar) {
+  robot::SkillDef stairs = *fixture().tree.find("stairs");
+  stairs.termination.episodeSeconds = 0.2;
+  stairs.terrain.advanceAt = 100.0;  // unreachable
+  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, {4, 1, false});
+  Eigen::MatrixXf obs;
+  env.reset(1, &obs);
+  ai::StepResult r;
+  const Eigen::MatrixXf zero = Eigen::MatrixXf::Zero(robot::kActionSize, 4);
+  for (int s = 0; s < 100; ++s) env.step(zero, &r);
+  EXPECT_EQ(env.curriculumLesson(), 0);
+}

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "engine/core/file_io.h"
 
@@ -151,6 +153,34 @@ TEST(Cli, TrainWritesLogCheckpointAndAValidOnnxModel) {
   const std::string onnx = engine::readFile(d + "/walk.onnx");
   EXPECT_NE(onnx.find("treelearn.joint_order"), std::string::npos);
   EXPECT_NE(onnx.find("left_hip_pitch_joint"), std::string::npos);
+}
+
+TEST(Cli, TrainingABranchStartsFromItsParentAndWritesOnlyItsOwnFiles) {
+  const std::string d = tempDir("branch");
+  const std::string models = d + "/models";
+  fs::copy(kSource + "/assets/skills", models, fs::copy_options::recursive);
+  std::vector<std::pair<std::string, std::string>> before;  // every file and its bytes
+  for (const auto& f : fs::directory_iterator(models)) before.push_back({f.path().filename(), engine::readFile(f.path())});
+  ASSERT_TRUE(fs::exists(models + "/walk.policy.bin"));
+  const CliRun r = run("train run --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d + "/run --models-dir " + models);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("initialised from parent 'walk'"), std::string::npos) << r.out;
+  for (const auto& [name, bytes] : before) {
+    if (name.rfind("run.", 0) == 0) continue;
+    EXPECT_EQ(engine::readFile(models + "/" + name), bytes) << name << " was changed";
+  }
+  EXPECT_TRUE(fs::exists(models + "/run.onnx"));
+  EXPECT_TRUE(fs::exists(models + "/run.policy.bin"));
+  size_t files = 0;
+  for (const auto& f : fs::directory_iterator(models)) files += f.is_regular_file();
+  EXPECT_LE(files, before.size() + 2) << "training wrote files other than run.onnx and run.policy.bin";
+}
+
+TEST(Cli, BranchWithoutParentModelIsAnError) {
+  const std::string d = tempDir("orphan");
+  const CliRun r = run("train run --steps 20480 --envs 4 --eval-every 0 --run-dir " + d + "/run --models-dir " + d);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("train walk first"), std::string::npos) << r.out;
 }
 
 TEST(Cli, UnknownSkillIsAnError) {

@@ -85,6 +85,9 @@ TEST(Sensors, FeetCarryTheWholeWeightWhenStanding) {
   EXPECT_LT(s.linearVelocity.norm(), 0.05);
   // whole-body CoM about 0.69 m up (FACTS §1: 0.691 m in the default pose)
   EXPECT_NEAR(s.centreOfMass.z(), 0.691, 0.01);
+  // soles on the ground (within the contact margin)
+  EXPECT_NEAR(s.footHeight[0], 0.0, 0.005);
+  EXPECT_NEAR(s.footHeight[1], 0.0, 0.005);
 }
 
 TEST(Sensors, YawAndBodyFrameVelocityFollowTheBase) {

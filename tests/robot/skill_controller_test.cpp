@@ -70,6 +70,35 @@ TEST(SkillController, PriorBendsHipKneeAnkleAsThePaperSays) {
   EXPECT_NEAR(pd.target[0], -0.1 - 0.1, 1e-12);
 }
 
+TEST(SkillController, StrideSwingsTheHipsBackAtLiftOffAndForwardAtTouchDown) {
+  robot::SkillDef skill;
+  skill.prior.kind = robot::PriorDef::Kind::Phase;
+  skill.prior.halfPeriodTicks = 40;
+  skill.prior.stride = 0.25;  // rad per m/s
+  skill.kp.fill(10);
+  skill.kd.fill(1);
+  const std::array<float, robot::kActionSize> action{};
+  robot::SkillCommand cmd;
+  cmd.vx = 0.8;  // swing amplitude 0.2 rad
+  robot::PdCommand pd;
+  // tp = 0: the left leg lifts off, extended back (+0.2, hip pitch > 0 is backward); the right leg is forward
+  robot::skillPdCommand(model(), skill, action, 0, cmd, &pd);
+  EXPECT_NEAR(pd.target[0], -0.1 + 0.2, 1e-12);
+  EXPECT_NEAR(pd.target[4], -0.2 - 0.2, 1e-12);  // its ankle compensates: the sole stays level
+  EXPECT_NEAR(pd.target[6], -0.1 - 0.2, 1e-12);
+  EXPECT_NEAR(pd.target[10], -0.2 + 0.2, 1e-12);
+  // tp = T1: the left leg touches down in front (cos(pi) = -1)
+  robot::skillPdCommand(model(), skill, action, 40, cmd, &pd);
+  EXPECT_NEAR(pd.target[0], -0.1 - 0.2, 1e-12);
+  EXPECT_NEAR(pd.target[6], -0.1 + 0.2, 1e-12);
+  // mid-swing the hips pass each other; backwards commands swing the other way
+  robot::skillPdCommand(model(), skill, action, 20, cmd, &pd);
+  EXPECT_NEAR(pd.target[0], -0.1, 1e-12);
+  cmd.vx = -0.8;
+  robot::skillPdCommand(model(), skill, action, 0, cmd, &pd);
+  EXPECT_NEAR(pd.target[0], -0.1 - 0.2, 1e-12);
+}
+
 TEST(SkillController, TargetsStayInsideJointLimits) {
   robot::SkillDef skill;
   skill.kp.fill(10);
@@ -87,9 +116,36 @@ TEST(SkillTree, ShippedTreeLoadsWithWalkAsRoot) {
   ASSERT_NE(walk, nullptr);
   EXPECT_EQ(walk->parent, "");
   EXPECT_EQ(walk->key, 0);
-  EXPECT_EQ(walk->prior.halfPeriodTicks, 40);
-  EXPECT_DOUBLE_EQ(walk->kp[3], 450.0);       // knee
+  EXPECT_EQ(walk->prior.kind, robot::PriorDef::Kind::Phase);
+  EXPECT_GT(walk->kp[3], 0.0);                   // knee
   EXPECT_DOUBLE_EQ(walk->actionScale[13], 0.0);  // arms are held
+  // issue 3's bars are the walk's card
+  EXPECT_EQ(walk->card.kind, robot::CardDef::Kind::Velocity);
+  EXPECT_EQ(walk->card.episodes, 50);
+  EXPECT_DOUBLE_EQ(walk->card.noFallPercent, 95.0);
+  EXPECT_DOUBLE_EQ(walk->card.speedError, 0.15);
+  EXPECT_DOUBLE_EQ(walk->card.yawError, 0.2);
+  EXPECT_DOUBLE_EQ(walk->card.standDrift, 0.2);
+}
+
+TEST(SkillTree, BranchInheritsTheControllerTablesItDoesNotWrite) {
+  const std::string dir = testing::TempDir() + "/tree_inherit";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\naction_filter = 0.8\n[skill.walk.rewards]\nlive = 1\n"
+                                    "[skill.walk.gains]\nhip_pitch=[300,5]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[450,8]\n"
+                                    "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
+                                    "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n"
+                                    "[skill.walk.action_scale]\nknee = 0.5\n"
+                                    "[skill.walk.termination]\nmax_tilt_deg = 25\n"
+                                    // 'a' sorts before 'walk', so the file order is not the resolution order
+                                    "[skill.a]\nparent = \"walk\"\nkey = 1\naction_filter = 0.5\n[skill.a.rewards]\nlive = 1\n";
+  const robot::SkillTree tree = robot::loadSkillTree(dir + "/t.toml", model());
+  const robot::SkillDef& a = *tree.find("a");
+  EXPECT_DOUBLE_EQ(a.kp[0], 300.0);  // left hip pitch, from walk
+  EXPECT_DOUBLE_EQ(a.kd[3], 8.0);    // left knee
+  EXPECT_DOUBLE_EQ(a.actionScale[3], 0.5);
+  EXPECT_DOUBLE_EQ(a.termination.maxTiltDegrees, 25.0);
+  EXPECT_DOUBLE_EQ(a.actionFilter, 0.5);  // its own
 }
 
 TEST(SkillTree, BadEntriesAreLocated) {
@@ -121,4 +177,9 @@ TEST(SkillTree, BadEntriesAreLocated) {
                             "[skill.b]\nparent = \"a\"\nkey = 2\n[skill.b.rewards]\nlive = 1\n" +
                             std::regex_replace(gains, std::regex("walk"), "b");
   EXPECT_NE(errorOf(cycle).find("cycle"), std::string::npos) << errorOf(cycle);
+  const std::string walk = "[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" + gains;
+  const std::string badMix = walk + "[skill.walk.card]\ntype = \"velocity\"\nmix = [0.5, 0.5, 0.5, 0.0]\n";
+  EXPECT_NE(errorOf(badMix).find("t.toml:21: skill.walk.card.mix must add up to 1"), std::string::npos) << errorOf(badMix);
+  const std::string badType = walk + "[skill.walk.card]\ntype = \"juggling\"\n";
+  EXPECT_NE(errorOf(badType).find("t.toml:19: skill.walk.card.type"), std::string::npos) << errorOf(badType);
 }

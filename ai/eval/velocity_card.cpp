@@ -1,0 +1,291 @@
+// velocity_card.cpp — measures a velocity card. Episodes run in lock-step batches so the policy is called once per
+// tick for all of them; each episode has its own world and RNG, so results do not depend on threads.
+#include "ai/eval/velocity_card.h"
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include "ai/env/worker_pool.h"
+#include "ai/env/terrain.h"
+#include "ai/rewards/reward_terms.h"
+#include "engine/loop/clock.h"
+#include "game/session.h"
+#include "robot/skill_controller.h"
+
+namespace ai {
+namespace {
+
+double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+
+struct Episode {
+  robot::RobotModel model;
+  std::unique_ptr<engine::PhysicsWorld> world;
+  std::unique_ptr<robot::Robot> robot;
+  std::mt19937_64 rng;
+  robot::SkillCommand command;
+  robot::PhaseClock phase;
+  std::array<float, robot::kActionSize> action{};
+  robot::Sensors sensors;
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();
+  bool pushes = true, fallen = false;
+  int nextPush = 0, segmentStart = 0;
+  double speedError = 0, yawError = 0;
+  int counted = 0;
+  int alive = 0;  // ticks survived
+  double kindError[4] = {0, 0, 0, 0};  // speed error by command kind: forward/back, sideways, turn, zero
+  int kindCount[4] = {0, 0, 0, 0};
+  Eigen::Vector3d velocitySum = Eigen::Vector3d::Zero();  // heading-frame vx, vy and wz after the settle time
+  double heightError = 0;  // sum of |h - h_target(amplitude)| after the settle time
+  int liftRun = 0, longestLift = 0;
+  double maxX = -1e9;  // furthest pelvis x (stairs)  // ticks the right sole has been (and was at most) lifted in one go
+};
+
+// what a batch does: walking episodes randomise friction, mass and pushes and resample commands; standing and
+// sweep episodes do neither (a sweep keeps the command each episode was given)
+enum class Mode { kWalking, kStanding, kSweep };
+
+double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
+
+void sampleCommand(const robot::CardDef& card, Episode& e) {
+  e.command = robot::SkillCommand{};
+  const double kind = unit(e.rng);
+  const std::array<double, 4>& m = card.mix;
+  if (kind < m[0]) e.command.vx = uniform(e.rng, card.vx);
+  else if (kind < m[0] + m[1]) e.command.vy = uniform(e.rng, card.vy);
+  else if (kind < m[0] + m[1] + m[2]) e.command.wz = uniform(e.rng, card.wz);
+  if (card.amplitude.hi > 0) e.command.amplitude = uniform(e.rng, card.amplitude);
+}
+
+// runs a batch of episodes of `ticks` ticks; standing episodes keep a zero command and no pushes
+void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
+              const robot::CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, WorkerPool& pool) {
+  const bool walking = mode == Mode::kWalking;
+  const int n = int(eps.size());
+  const int segment = int(std::lround(o.segmentSeconds / engine::kTickSeconds));
+  const int settle = int(std::lround(o.settleSeconds / engine::kTickSeconds));
+  const int pushEvery = int(std::lround(walk.randomisation.pushEverySeconds / engine::kTickSeconds));
+  const double maxTilt = walk.termination.maxTiltDegrees * M_PI / 180.0;
+  Eigen::MatrixXf obs(robot::kObservationSize, n), act;
+
+  pool.parallelFor(n, [&](int i) {
+    Episode& e = eps[size_t(i)];
+    e.model = model;
+    const double friction = walking ? walk.randomisation.friction.lo +
+                                          (walk.randomisation.friction.hi - walk.randomisation.friction.lo) * unit(e.rng)
+                                    : 1.0;
+    if (walking)
+      e.model.articulation.base.mass +=
+          walk.randomisation.addedMass.lo + (walk.randomisation.addedMass.hi - walk.randomisation.addedMass.lo) * unit(e.rng);
+    e.world = std::make_unique<engine::PhysicsWorld>();
+    e.world->addGround(friction);
+    const bool stairs = o.kind == robot::CardDef::Kind::Stairs;
+    if (stairs) addTerrain(*e.world, walk.terrain, o.stepHeight, friction);
+    const double yaw = stairs ? 0.2 * (2 * unit(e.rng) - 1) : M_PI * (2 * unit(e.rng) - 1);
+    e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, yaw, friction);
+    e.sensors = e.robot->sense(*e.world);
+    e.start = e.sensors.basePosition.head<2>();
+    e.pushes = walking && o.pushes && pushEvery > 0;
+    e.nextPush = pushEvery;
+    if (walking) sampleCommand(o, e);
+  });
+
+  for (int t = 0; t < ticks; ++t) {
+    for (int i = 0; i < n; ++i) {
+      const Episode& e = eps[size_t(i)];
+      double s, c;
+      robot::phaseSignal(e.phase.tp, walk.prior.halfPeriodTicks, &s, &c);
+      robot::Observation ob;
+      robot::buildObservation(e.sensors, model, e.action, e.command, s, c, &ob);
+      for (int k = 0; k < robot::kObservationSize; ++k) obs(k, i) = ob[size_t(k)];
+    }
+    policy(obs, &act);
+    pool.parallelFor(n, [&](int i) {
+      Episode& e = eps[size_t(i)];
+      if (e.fallen) return;
+      robot::filterAction(walk, act.col(i).data(), &e.action);
+      e.phase.advance(walk.prior.halfPeriodTicks);
+      robot::PdCommand pd;
+      robot::skillPdCommand(e.model, walk, e.action, e.phase.tp, e.command, &pd);
+      e.robot->setCommand(pd);
+      for (int k = 0; k < game::kSubsteps; ++k) {
+        e.robot->applyPd(*e.world);
+        e.world->step(game::kSubstepSeconds);
+      }
+      e.sensors = e.robot->sense(*e.world);
+      const int tick = t + 1;
+      ++e.alive;
+      if (std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||
+          e.sensors.basePosition.z() < walk.termination.minHeight) {
+        e.fallen = true;
+        return;
+      }
+      if (mode != Mode::kStanding && tick - e.segmentStart > settle) {
+        // velocity in the heading frame (yaw only), compared with the command
+        const double yaw = e.sensors.yaw;
+        const Eigen::Vector3d vWorld = e.sensors.baseRotation * e.sensors.linearVelocity;
+        const Eigen::Vector2d v(std::cos(yaw) * vWorld.x() + std::sin(yaw) * vWorld.y(),
+                                -std::sin(yaw) * vWorld.x() + std::cos(yaw) * vWorld.y());
+        const double err = (v - Eigen::Vector2d(e.command.vx, e.command.vy)).norm();
+        e.speedError += err;
+        const int kind = e.command.vx != 0 ? 0 : e.command.vy != 0 ? 1 : e.command.wz != 0 ? 2 : 3;
+        e.kindError[kind] += err;
+        ++e.kindCount[kind];
+        const double wz = (e.sensors.baseRotation * e.sensors.angularVelocity).z();
+        e.yawError += std::abs(wz - e.command.wz);
+        e.velocitySum += Eigen::Vector3d(v.x(), v.y(), wz);
+        e.heightError += std::abs(e.sensors.basePosition.z() - targetPelvisHeight(walk, e.command.amplitude));
+        ++e.counted;
+      }
+      e.maxX = std::max(e.maxX, e.sensors.basePosition.x());
+      const bool lifted = e.sensors.footHeight[1] >= o.liftHeight && e.sensors.footContact[0];
+      e.liftRun = lifted ? e.liftRun + 1 : 0;
+      e.longestLift = std::max(e.longestLift, e.liftRun);
+      if (e.pushes && tick >= e.nextPush) {
+        engine::ArticulationState s;
+        e.world->readState(e.robot->id(), &s);
+        const double angle = 2 * M_PI * unit(e.rng);
+        const auto& ps = walk.randomisation.pushSpeed;
+        const double speed = ps.lo + (ps.hi - ps.lo) * unit(e.rng);
+        s.baseLinearVelocity += Eigen::Vector3d(std::cos(angle), std::sin(angle), 0) * speed;
+        e.world->setState(e.robot->id(), s);
+        e.nextPush += pushEvery;
+      }
+      if (walking && tick % segment == 0 && tick < ticks) {
+        sampleCommand(o, e);
+        e.segmentStart = tick;
+      }
+    });
+  }
+}
+
+}  // namespace
+
+CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
+                           const CardRun& run) {
+  const robot::CardDef& o = run.card;
+  WorkerPool pool(run.threads);
+  std::mt19937_64 seeder(run.seed);
+
+  std::vector<Episode> walking(size_t(o.episodes));
+  for (Episode& e : walking) e.rng.seed(seeder());
+  runBatch(model, skill, policy, o, walking, int(std::lround(o.episodeSeconds / engine::kTickSeconds)), Mode::kWalking, pool);
+  std::vector<Episode> standing(size_t(o.standEpisodes));
+  for (Episode& e : standing) e.rng.seed(seeder());
+  runBatch(model, skill, policy, o, standing, int(std::lround(o.standSeconds / engine::kTickSeconds)), Mode::kStanding, pool);
+
+  double kindError[4] = {0, 0, 0, 0};
+  long kindCount[4] = {0, 0, 0, 0};
+  int upright = 0;
+  double speed = 0, yaw = 0, survival = 0, height = 0;
+  const double walkTicks = std::lround(o.episodeSeconds / engine::kTickSeconds);
+  long counted = 0;
+  for (const Episode& e : walking) {
+    upright += !e.fallen;
+    speed += e.speedError;
+    yaw += e.yawError;
+    height += e.heightError;
+    counted += e.counted;
+    for (int k = 0; k < 4; ++k) {
+      kindError[k] += e.kindError[k];
+      kindCount[k] += e.kindCount[k];
+    }
+    survival += e.alive / walkTicks / std::max(1, o.episodes);
+  }
+  double drift = 0;
+  int standFalls = 0;
+  for (const Episode& e : standing) {
+    drift = std::max(drift, (e.sensors.basePosition.head<2>() - e.start).norm());
+    standFalls += e.fallen;
+  }
+  CardResult r;
+  auto bar = [](double v, const char* unit) {
+    char b[48];
+    std::snprintf(b, sizeof b, "%s %g %s", unit[0] == '%' ? ">=" : "<=", v, unit);
+    return std::string(b);
+  };
+  const double noFall = 100.0 * upright / std::max(1, o.episodes);
+  const double meanSpeed = counted ? speed / double(counted) : 1e9;
+  const double meanYaw = counted ? yaw / double(counted) : 1e9;
+  // a figure with a bar is checked; the others are reported
+  auto add = [&](const std::string& name, double value, double limit, const char* unit, bool atLeast) {
+    if (limit < 0) r.figures.push_back({name, value, "(reported)", true});
+    else r.figures.push_back({name, value, bar(limit, unit), atLeast ? value >= limit : value <= limit});
+  };
+  add("episodes without a fall", noFall, o.noFallPercent, "%", true);
+  add("mean |v - v_cmd|", meanSpeed, o.speedError, "m/s", false);
+  add("mean |wz - wz_cmd|", meanYaw, o.yawError, "rad/s", false);
+  const double meanHeight = counted ? height / double(counted) : 1e9;
+  double balanceScore = 0;
+  if (o.kind == robot::CardDef::Kind::Stairs) {
+    int across = 0;
+    double progress = 0;
+    const double end = terrainEndX(skill.terrain);
+    for (const Episode& e : walking) {
+      across += !e.fallen && e.maxX > end;
+      progress += std::clamp(e.maxX / end, 0.0, 1.0) / std::max(1, o.episodes);
+    }
+    char name[96];
+    std::snprintf(name, sizeof name, "episodes up and down %d steps of %.2f m", skill.terrain.steps, o.stepHeight);
+    add(name, 100.0 * across / std::max(1, o.episodes), o.successPercent, "%", true);
+    r.figures.push_back({"mean progress along the stairs", 100.0 * progress, "(reported) %", true});
+    balanceScore = 2.0 * across / std::max(1, o.episodes) + 2.0 * progress;
+  }
+  if (o.kind == robot::CardDef::Kind::Balance) {
+    int success = 0;
+    double longest = 0;
+    for (const Episode& e : walking) {
+      success += !e.fallen && e.longestLift * engine::kTickSeconds >= o.liftSeconds;
+      longest += e.longestLift * engine::kTickSeconds / std::max(1, o.episodes);
+    }
+    char name[96];
+    std::snprintf(name, sizeof name, "episodes lifted >= %.2f m for %.0f s", o.liftHeight, o.liftSeconds);
+    add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
+    r.figures.push_back({"mean longest lift [s]", longest, "(reported)", true});
+    balanceScore = 2.0 * success / std::max(1, o.episodes) + longest / std::max(1.0, o.liftSeconds);
+  }
+  if (o.kind == robot::CardDef::Kind::Height) add("mean |h - h_target| (pelvis)", meanHeight, o.heightError, "m", false);
+  const char* kinds[4] = {"  of which forward/backward", "  of which sideways", "  of which turning", "  of which zero command"};
+  for (int k = 0; k < 4; ++k)
+    if (kindCount[k] && o.mix[size_t(k)] < 1.0) r.figures.push_back({kinds[k], kindError[k] / double(kindCount[k]), "(reported)", true});
+  r.figures.push_back({"mean time survived (of each episode)", 100.0 * survival, "(reported) %", true});
+  if (o.standEpisodes > 0) {
+    const double d = standFalls ? 1e9 : drift;
+    r.figures.push_back({"zero command: max drift over " + std::to_string(int(o.standSeconds)) + " s", d,
+                         o.standDrift < 0 ? "(reported)" : "< " + std::to_string(o.standDrift).substr(0, 4) + " m",
+                         o.standDrift < 0 || d < o.standDrift});
+  }
+  r.pass = true;
+  for (const CardFigure& f : r.figures) r.pass = r.pass && f.pass;
+  // survival counts twice so that a policy cannot score by falling before tracking errors accumulate
+  r.score = 2.0 * survival + noFall / 100.0 - std::min(meanSpeed, 2.0) - 0.5 * std::min(meanYaw, 2.0) -
+            (o.kind == robot::CardDef::Kind::Height ? 5.0 * std::min(meanHeight, 1.0) : 0.0) -
+            (o.standEpisodes == 0 ? 0.0 : standFalls ? 1.0 : std::min(drift, 1.0)) + balanceScore;
+  return r;
+}
+
+std::vector<SweepRow> runSpeedSweep(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
+                                    const std::vector<robot::SkillCommand>& commands, double seconds, int threads) {
+  WorkerPool pool(threads);
+  std::vector<Episode> eps(commands.size());
+  for (size_t i = 0; i < eps.size(); ++i) {
+    eps[i].rng.seed(i + 1);  // only the spawn heading is random
+    eps[i].command = commands[i];
+  }
+  robot::CardDef o;
+  o.segmentSeconds = seconds + 1;
+  runBatch(model, walk, policy, o, eps, int(std::lround(seconds / engine::kTickSeconds)), Mode::kSweep, pool);
+  std::vector<SweepRow> rows;
+  for (const Episode& e : eps) {
+    SweepRow r;
+    r.command = e.command;
+    r.fell = e.fallen;
+    r.secondsUp = e.alive * engine::kTickSeconds;
+    r.mean = e.counted ? Eigen::Vector3d(e.velocitySum / double(e.counted)) : Eigen::Vector3d::Zero();
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+}  // namespace ai

@@ -1,0 +1,85 @@
+// skill_metadata.cpp — see skill_metadata.h.
+#include "ai/onnx/skill_metadata.h"
+
+#include <sstream>
+
+#include "engine/core/error.h"
+#include "engine/core/hash.h"
+#include "robot/skill_layout.h"
+
+namespace ai {
+namespace {
+
+std::string joinNumbers(const double* v, size_t n) {
+  std::ostringstream s;
+  s.precision(9);
+  for (size_t i = 0; i < n; ++i) s << (i ? "," : "") << v[i];
+  return s.str();
+}
+
+// the keys that define how a policy's output becomes joint torques; a mismatch means a different controller
+const char* const kControllerKeys[] = {
+    "treelearn.layout_version", "treelearn.observation_size", "treelearn.action_size", "treelearn.joint_order",
+    "treelearn.default_pose",   "treelearn.action_scale",     "treelearn.action_clip", "treelearn.action_filter",
+    "treelearn.kp",             "treelearn.kd",               "treelearn.prior",
+};
+
+}  // namespace
+
+Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& skill, int64_t envSteps, uint64_t seed) {
+  std::string joints;
+  robot::JointArray defaults{};
+  for (size_t j = 0; j < size_t(robot::kNumJoints); ++j) {
+    joints += (j ? "," : "") + model.joints[j].name;
+    defaults[j] = model.joints[j].defaultPosition;
+  }
+  const char* prior = skill.prior.kind == robot::PriorDef::Kind::Phase ? "phase"
+                      : skill.prior.kind == robot::PriorDef::Kind::Pose ? "pose"
+                                                                          : "none";
+  std::ostringstream filter;
+  filter.precision(9);
+  filter << skill.actionFilter;
+  return {
+      {"treelearn.skill", skill.name},
+      {"treelearn.parent", skill.parent},
+      {"treelearn.key", std::to_string(skill.key)},
+      {"treelearn.layout_version", std::to_string(robot::kLayoutVersion)},
+      {"treelearn.observation_size", std::to_string(robot::kObservationSize)},
+      {"treelearn.action_size", std::to_string(robot::kActionSize)},
+      {"treelearn.joint_order", joints},
+      {"treelearn.default_pose", joinNumbers(defaults.data(), defaults.size())},
+      {"treelearn.action_scale", joinNumbers(skill.actionScale.data(), skill.actionScale.size())},
+      {"treelearn.action_clip", std::to_string(robot::kActionClip)},
+      {"treelearn.action_filter", filter.str()},
+      {"treelearn.kp", joinNumbers(skill.kp.data(), skill.kp.size())},
+      {"treelearn.kd", joinNumbers(skill.kd.data(), skill.kd.size())},
+      {"treelearn.control_rate_hz", "100"},
+      {"treelearn.physics_substep_s", "0.002"},
+      {"treelearn.prior", std::string(prior) + " T1=" + std::to_string(skill.prior.halfPeriodTicks) +
+                              " dh=" + std::to_string(skill.prior.dh) + " d0=" + std::to_string(skill.prior.d0) +
+                              " stand_still=" + (skill.prior.standStill ? "true" : "false") +
+                              (skill.prior.stride != 0 ? " stride=" + std::to_string(skill.prior.stride) : "") +
+                              (skill.prior.kind == robot::PriorDef::Kind::Pose
+                                   ? " offset=" + joinNumbers(skill.prior.poseOffset.data(), skill.prior.poseOffset.size())
+                                   : "")},
+      {"treelearn.robot_hash", engine::toHex(model.hash)},
+      {"treelearn.env_steps", std::to_string(envSteps)},
+      {"treelearn.seed", std::to_string(seed)},
+  };
+}
+
+void checkModelMatchesSkill(const LoadedPolicy& policy, const std::string& modelPath, const robot::RobotModel& model,
+                            const robot::SkillDef& skill, const std::string& treePath) {
+  const Metadata now = skillMetadata(model, skill, 0, 0);
+  for (const char* key : kControllerKeys) {
+    const auto inFile = policy.metadata.find(key);
+    if (inFile == policy.metadata.end()) continue;
+    for (const auto& [k, v] : now)
+      if (k == key && v != inFile->second)
+        throw engine::Error(modelPath + ": skill '" + skill.name + "' was trained with " + key + " = '" + inFile->second +
+                            "' but " + treePath + " now gives '" + v +
+                            "': retrain the skill (treelearn train " + skill.name + ") or restore its tree entry");
+  }
+}
+
+}  // namespace ai

@@ -1,0 +1,166 @@
+// switches.cpp — the skills as `play` loads them, and `treelearn eval switches`: every allowed switch (each
+// tree edge, both directions) tried at random moments and commands through the real runtime (a Session on
+// levels/flat driven by key events), with its success rate and how much the switch disturbs the motion.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <random>
+
+#include "ai/env/worker_pool.h"
+#include "ai/onnx/policy_onnx.h"
+#include "ai/onnx/skill_metadata.h"
+#include "apps/commands.h"
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "engine/core/hash.h"
+#include "engine/loop/clock.h"
+#include "game/session.h"
+#include "levels/level.h"
+
+namespace apps {
+
+game::SkillSet loadSkills(const robot::RobotModel& model) {
+  game::SkillSet set;
+  const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
+  engine::Hasher h;
+  const std::string treeText = engine::readFile(tree.path);
+  h.bytes(treeText.data(), treeText.size());
+  for (const robot::SkillDef& def : tree.skills) {
+    const std::string path = tree.directory + "/" + def.model;
+    if (!std::filesystem::exists(path)) continue;
+    auto policy = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(path));
+    if (policy->observationSize() != robot::kObservationSize || policy->actionSize() != robot::kActionSize)
+      throw engine::Error(path + ": network sizes do not match the shared observation/action layout");
+    ai::checkModelMatchesSkill(*policy, path, model, def, tree.path);
+    h.value(ai::onnxFileHash(path));
+    set.skills.push_back({def, [policy](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { policy->act(o, a); }});
+  }
+  set.hash = set.skills.empty() ? 0 : h.value();
+  return set;
+}
+
+namespace {
+
+double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+
+// the movement keys a skill's command ranges give meaning to, plus "no key"
+std::vector<char> movementKeys(const robot::CommandDef& c) {
+  std::vector<char> keys = {0};
+  if (c.vx.hi > 0) keys.push_back('W');
+  if (c.vx.lo < 0) keys.push_back('S');
+  if (c.vy.lo < 0 || c.vy.hi > 0) keys.insert(keys.end(), {'Q', 'E'});
+  if (c.wz.lo < 0 || c.wz.hi > 0) keys.insert(keys.end(), {'A', 'D'});
+  return keys;
+}
+
+struct Trial {
+  bool switched = false, upright = false;
+  double accelAround = 0, accelBefore = 0;   // peak |d v_CoM / dt| [m/s^2] around the switch / 1 s earlier
+  double targetAround = 0, targetBefore = 0;  // peak per-tick joint-target change [rad]
+  double latencyTicks = -1;                   // key tick -> tick the new skill first acts
+};
+
+constexpr double kWindowSeconds = 0.2;  // the window around the switch (and the earlier reference window)
+constexpr double kAfterSeconds = 3.0;   // no fall for this long after the switch
+
+Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const game::SkillSet& skills,
+               const game::SkillRuntime& from, const game::SkillRuntime& to, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const std::vector<char> keysA = movementKeys(from.def.commands), keysB = movementKeys(to.def.commands);
+  const char keyA = keysA[size_t(unit(rng) * double(keysA.size()))];
+  const char keyB = keysB[size_t(unit(rng) * double(keysB.size()))];
+  const int64_t switchTick = engine::secondsToTicks(2.0 + 2.0 * unit(rng));  // a random gait phase
+  const int64_t endTick = switchTick + engine::secondsToTicks(kAfterSeconds);
+  const int64_t half = engine::secondsToTicks(kWindowSeconds / 2);
+  const int64_t reference = switchTick - engine::secondsToTicks(1.0);
+
+  game::Session s(level, model, game::SessionOptions{seed, &skills});
+  Trial t;
+  Eigen::Vector3d lastCom = s.sensors().centreOfMass, lastVel = Eigen::Vector3d::Zero();
+  robot::JointArray lastTarget = s.robot().command().target;
+  for (int64_t tick = 0; tick < endTick && !s.fallen(); ++tick) {
+    std::vector<engine::KeyEvent> ev;
+    if (tick == 0) ev.push_back({tick, engine::KeyAction::kTap, char('0' + from.def.key)});
+    if (tick == engine::secondsToTicks(0.5) && keyA) ev.push_back({tick, engine::KeyAction::kDown, keyA});
+    if (tick == switchTick) {
+      if (keyA) ev.push_back({tick, engine::KeyAction::kUp, keyA});
+      ev.push_back({tick, engine::KeyAction::kTap, char('0' + to.def.key)});
+      if (keyB) ev.push_back({tick, engine::KeyAction::kDown, keyB});
+    }
+    s.step(ev);
+    const Eigen::Vector3d com = s.sensors().centreOfMass;
+    const Eigen::Vector3d vel = (com - lastCom) / engine::kTickSeconds;
+    const double accel = tick > 0 ? (vel - lastVel).norm() / engine::kTickSeconds : 0.0;
+    double targetStep = 0;
+    for (size_t j = 0; j < lastTarget.size(); ++j)
+      targetStep = std::max(targetStep, std::abs(s.robot().command().target[j] - lastTarget[j]));
+    lastCom = com, lastVel = vel, lastTarget = s.robot().command().target;
+    if (std::abs(tick - switchTick) <= half) {
+      t.accelAround = std::max(t.accelAround, accel);
+      t.targetAround = std::max(t.targetAround, targetStep);
+    }
+    if (std::abs(tick - reference) <= half) {
+      t.accelBefore = std::max(t.accelBefore, accel);
+      t.targetBefore = std::max(t.targetBefore, targetStep);
+    }
+    if (t.latencyTicks < 0 && tick >= switchTick && s.activeSkillName() == to.def.name)
+      t.latencyTicks = double(tick - switchTick);
+  }
+  t.switched = t.latencyTicks >= 0;
+  t.upright = !s.fallen();
+  return t;
+}
+
+}  // namespace
+
+int runSwitchEval(const SwitchEvalOptions& o) {
+  const robot::RobotModel model = robot::loadRobotModel(engine::projectFile("assets/robots/g1_23dof.toml"));
+  const game::SkillSet skills = loadSkills(model);
+  const levels::Level level = levels::loadLevel(engine::projectFile("levels/flat"));
+  std::vector<std::pair<const game::SkillRuntime*, const game::SkillRuntime*>> pairs;
+  for (const game::SkillRuntime& child : skills.skills)
+    if (const game::SkillRuntime* parent = child.def.parent.empty() ? nullptr : skills.byName(child.def.parent)) {
+      pairs.push_back({parent, &child});
+      pairs.push_back({&child, parent});
+    }
+  if (pairs.empty())
+    throw engine::Error("eval switches: no two connected skills have models yet (loaded: " +
+                        std::to_string(skills.skills.size()) + "); train a branch first");
+  std::printf("switch report: %zu allowed switches x %d trials on levels/flat (random moment 2-4 s, random movement "
+              "keys before and after; success = switched and no fall for %.0f s)\n",
+              pairs.size(), o.trials, kAfterSeconds);
+  std::printf("  %-22s %8s %9s   %-27s %-27s\n", "switch", "success", "latency", "peak CoM accel [m/s^2]",
+              "peak target step [rad]");
+  std::printf("  %-22s %8s %9s   %-27s %-27s\n", "", "", "[ticks]", "around switch / 1 s before", "around switch / 1 s before");
+  ai::WorkerPool pool(o.threads);
+  bool pass = true;
+  double worstLatency = 0;
+  for (size_t p = 0; p < pairs.size(); ++p) {
+    std::vector<Trial> trials(size_t(o.trials));
+    pool.parallelFor(o.trials, [&](int i) {
+      trials[size_t(i)] = runTrial(level, model, skills, *pairs[p].first, *pairs[p].second, o.seed * 1000003 + p * 1009 + uint64_t(i));
+    });
+    int ok = 0;
+    double accA = 0, accB = 0, tgtA = 0, tgtB = 0, latency = 0;
+    for (const Trial& t : trials) {
+      ok += t.switched && t.upright;
+      accA = std::max(accA, t.accelAround), accB = std::max(accB, t.accelBefore);
+      tgtA = std::max(tgtA, t.targetAround), tgtB = std::max(tgtB, t.targetBefore);
+      latency = std::max(latency, t.latencyTicks);
+    }
+    worstLatency = std::max(worstLatency, latency);
+    const double rate = 100.0 * ok / o.trials;
+    const bool good = rate >= o.barPercent;
+    pass = pass && good;
+    const std::string name = pairs[p].first->def.name + " -> " + pairs[p].second->def.name;
+    std::printf("  %-22s %7.0f%% %9.0f   %12.1f / %-12.1f %12.3f / %-12.3f %s\n", name.c_str(), rate, latency, accA, accB,
+                tgtA, tgtB, good ? "PASS" : "FAIL");
+  }
+  std::printf("  worst switch latency: %.0f ticks (%.0f ms) from the key to the new skill's first control step\n",
+              worstLatency, worstLatency * engine::kTickSeconds * 1000);
+  std::printf("  %s (bar: >= %.0f %% success on every switch)\n", pass ? "SWITCHES PASSED" : "SWITCHES FAILED", o.barPercent);
+  return pass ? 0 : 1;
+}
+
+}  // namespace apps

@@ -1,0 +1,96 @@
+// switching_test.cpp — the skill runtime: routes along the tree, and a switch that does not jump the joint
+// targets (the filtered action and the gait phase carry over).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/input/key_script.h"
+#include "game/session.h"
+#include "tests/fixtures.h"
+
+namespace {
+
+using fixtures::kSource;
+
+// a small tree: walk -> {run, squat -> jump}; every policy outputs the same constant action: zero, or a
+// balanced crouch (hip pitch -a, knee +2a, ankle pitch -a on both legs)
+game::SkillSet tree(float crouch) {
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  robot::SkillDef base = *shipped.find("walk");
+  base.prior.kind = robot::PriorDef::Kind::None;  // no gait: targets move only with the action
+  game::SkillSet set;
+  auto add = [&](const std::string& name, const std::string& parent, int key) {
+    robot::SkillDef d = base;
+    d.name = name;
+    d.parent = parent;
+    d.key = key;
+    set.skills.push_back({d, [crouch](const Eigen::MatrixXf&, Eigen::MatrixXf* a) {
+                            a->setZero(robot::kActionSize, 1);
+                            for (int leg : {0, 6}) {
+                              (*a)(leg + 0, 0) = -crouch;     // hip pitch
+                              (*a)(leg + 3, 0) = 2 * crouch;  // knee
+                              (*a)(leg + 4, 0) = -crouch;     // ankle pitch
+                            }
+                          }});
+  };
+  add("walk", "", 0);
+  add("run", "walk", 1);
+  add("squat", "walk", 3);
+  add("jump", "squat", 4);
+  return set;
+}
+
+std::string hop(const game::SkillSet& s, const std::string& from, const std::string& to) {
+  const game::SkillRuntime* h = s.nextHop(*s.byName(from), *s.byName(to));
+  return h ? h->def.name : "-";
+}
+
+}  // namespace
+
+TEST(SkillSet, RoutesGoUpToTheCommonAncestorThenDown) {
+  const game::SkillSet s = tree(0.0f);
+  EXPECT_EQ(hop(s, "walk", "run"), "run");
+  EXPECT_EQ(hop(s, "run", "walk"), "walk");
+  EXPECT_EQ(hop(s, "run", "jump"), "walk");
+  EXPECT_EQ(hop(s, "walk", "jump"), "squat");
+  EXPECT_EQ(hop(s, "jump", "run"), "squat");
+  EXPECT_EQ(hop(s, "squat", "jump"), "jump");
+  EXPECT_EQ(hop(s, "jump", "jump"), "-");
+}
+
+TEST(Session, RoutedRequestSwitchesOneEdgeAtATime) {
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  const game::SkillSet skills = tree(0.0f);
+  game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &skills});
+  s.step(engine::parseKeyScript("0.00 tap 1\n", "k"));  // run, via nothing: the first skill is taken directly
+  for (int i = 0; i < 20; ++i) s.step({});
+  EXPECT_EQ(s.activeSkillName(), "run");
+  s.step({{s.tick(), engine::KeyAction::kTap, '4'}});  // jump: run -> walk -> squat -> jump
+  for (int i = 0; i < 3 * game::kMinHopTicks + 5; ++i) s.step({});
+  ASSERT_EQ(s.telemetry().switches.size(), 4u);
+  const auto& sw = s.telemetry().switches;
+  EXPECT_EQ(sw[1].from + ">" + sw[1].to, "run>walk");
+  EXPECT_EQ(sw[2].from + ">" + sw[2].to, "walk>squat");
+  EXPECT_EQ(sw[3].from + ">" + sw[3].to, "squat>jump");
+  EXPECT_EQ(sw[2].tick - sw[1].tick, game::kMinHopTicks);  // an intermediate skill runs its minimum time
+  EXPECT_EQ(s.activeSkillName(), "jump");
+}
+
+TEST(Session, SwitchKeepsTheJointTargetsContinuous) {
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  const game::SkillSet skills = tree(0.3f);  // both skills hold the same crouch
+  game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &skills});
+  s.step(engine::parseKeyScript("0.00 tap 0\n", "k"));
+  for (int i = 0; i < 100; ++i) s.step({});  // the 0.8 low-pass has settled (0.8^100 ~ 2e-10)
+  const robot::JointArray before = s.robot().command().target;
+  s.step({{s.tick(), engine::KeyAction::kTap, '1'}});
+  ASSERT_EQ(s.activeSkillName(), "run") << "tilt " << s.sensors().tilt;
+  const robot::JointArray after = s.robot().command().target;
+  double jump = 0, bent = 0;
+  for (size_t j = 0; j < before.size(); ++j) {
+    jump = std::max(jump, std::abs(after[j] - before[j]));
+    bent = std::max(bent, std::abs(before[j] - fixtures::robotModel().joints[j].defaultPosition));
+  }
+  EXPECT_GT(bent, 0.2);   // the pose is really away from the default (knee: scale 0.5 x action 0.6)
+  EXPECT_LT(jump, 1e-6);  // and the switch did not move any target
+}
