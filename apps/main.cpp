@@ -1,6 +1,7 @@
 // main.cpp — the treelearn command line: play, replay, bench (train/eval/tree arrive with the learning
 // issues). Parses arguments with CLI11, turns engine::Error into "error: ..." and exit code 2.
 #include <CLI/CLI.hpp>
+#include <Eigen/Core>
 
 #include <cmath>
 #include <cstdio>
@@ -67,6 +68,20 @@ std::string summaryText(const levels::Level& level, const game::PlayResult& r, c
   for (const std::string& u : t.skillsUsed) used += (used.empty() ? "" : ", ") + u;
   s << "skills     used: " << (used.empty() ? "none (standing controller)" : used)
     << "; requested keys: " << (keys.empty() ? "none" : keys) << "\n";
+  if (!t.switches.empty()) {
+    s << "switches   " << t.switches.size() << ":";
+    for (size_t i = 0; i < t.switches.size(); ++i) {
+      if (i == 8) {
+        s << " ...";
+        break;
+      }
+      const game::SwitchEvent& e = t.switches[i];
+      std::snprintf(line, sizeof line, "%s %s->%s at %.2f s", i ? "," : "", e.from.c_str(), e.to.c_str(),
+                    double(e.tick) * engine::kTickSeconds);
+      s << line;
+    }
+    s << "\n";
+  }
   std::snprintf(line, sizeof line, "pelvis     mean height %.3f m (min %.3f, max %.3f), max tilt %.1f deg\n",
                 t.ticks ? t.sumPelvisHeight / double(t.ticks) : 0.0, t.minPelvisHeight, t.maxPelvisHeight,
                 t.maxTilt * 180.0 / M_PI);
@@ -223,6 +238,7 @@ void addOutputOptions(CLI::App* cmd, OutputOptions* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  Eigen::setNbThreads(1);  // matrix products are threaded only inside the PPO update (ai::Trainer)
   CLI::App app{"treelearn: a Unitree G1 humanoid in Bullet that learns a tree of skills and plays levels with them.\n"
                "Run 'treelearn <command> --help' for a command's options."};
   app.require_subcommand(1);

@@ -86,6 +86,7 @@ int runTrain(const TrainOptions& o) {
   options.seed = o.seed;
   options.resume = o.resume;
   options.evalEvery = std::max(1, o.evalEvery);
+  options.updateThreads = o.threads;
   if (skill.card.kind != robot::CardDef::Kind::None && o.evalEvery > 0) {
     options.evaluate = [&](const ai::PolicyState& p) {
       ai::CardRun card{skill.card, 1000 + o.seed, o.threads};  // a fixed seed, so resumed runs score identically
@@ -208,7 +209,7 @@ int runEval(const EvalOptions& o) {
   ai::CardRun run{def, o.seed, o.threads};
   if (o.episodes > 0) run.card.episodes = o.episodes;
   char head[512];
-  std::snprintf(head, sizeof head, "%s report card: %d episodes x %.0f s with pushes %s, commands every %.0f s%s (model %s, hash %s)\n",
+  std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
                 o.skill.c_str(), run.card.episodes, def.episodeSeconds, def.pushes ? "on" : "off", def.segmentSeconds,
                 def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
                                      std::to_string(int(def.standSeconds)) + " s").c_str() : "",

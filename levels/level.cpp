@@ -180,22 +180,18 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
       if (!v) throw Error(located(fileName, r.line(*d), "'down' must be true or false"));
       down = *v;
     }
-    const uint32_t rgba = r.colour(*t, 0xc8b08aff);
-    // each step is a column from the ground up to its tread height
-    double x = start.x();
-    auto column = [&](const std::string& n, double x0, double length, double h) {
-      BoxDef b;
-      b.line = line;
-      b.name = n;
-      b.centre = Eigen::Vector3d(x0 + 0.5 * length, start.y(), 0.5 * h);
-      b.size = Eigen::Vector3d(length, width, h);
-      b.rgba = rgba;
-      addBox(std::move(b));
-    };
-    for (int i = 1; i <= steps; ++i, x += run) column(name + "_up" + std::to_string(i), x, i == steps ? top : run, i * rise);
-    x += top - run;
-    if (down)
-      for (int i = steps - 1; i >= 1; --i, x += run) column(name + "_down" + std::to_string(i), x, run, i * rise);
+    StairsDef def;
+    def.name = name;
+    def.start = start;
+    def.steps = steps;
+    def.rise = rise;
+    def.run = run;
+    def.width = width;
+    def.top = top;
+    def.down = down;
+    def.rgba = r.colour(*t, 0xc8b08aff);
+    def.line = line;
+    for (BoxDef& b : expandStairs(def)) addBox(std::move(b));
   }
   return level;
 }
@@ -208,6 +204,30 @@ Level loadLevel(const std::string& pathOrFolder) {
   Level level = parseLevel(engine::readFile(path), path);
   level.directory = fs::path(path).parent_path().string();
   return level;
+}
+
+std::vector<BoxDef> expandStairs(const StairsDef& d) {
+  std::vector<BoxDef> boxes;
+  // each step is a column from the ground up to its tread height
+  double x = d.start.x();
+  auto column = [&](const std::string& n, double x0, double length, double h) {
+    BoxDef b;
+    b.line = d.line;
+    b.name = n;
+    b.centre = Eigen::Vector3d(x0 + 0.5 * length, d.start.y(), 0.5 * h);
+    b.size = Eigen::Vector3d(length, d.width, h);
+    b.rgba = d.rgba;
+    boxes.push_back(std::move(b));
+  };
+  for (int i = 1; i <= d.steps; ++i, x += d.run) column(d.name + "_up" + std::to_string(i), x, i == d.steps ? d.top : d.run, i * d.rise);
+  x += d.top - d.run;
+  if (d.down)
+    for (int i = d.steps - 1; i >= 1; --i, x += d.run) column(d.name + "_down" + std::to_string(i), x, d.run, i * d.rise);
+  return boxes;
+}
+
+double stairsEndX(const StairsDef& d) {
+  return d.start.x() + (d.steps - 1) * d.run + d.top + (d.down ? (d.steps - 1) * d.run : 0.0);
 }
 
 }  // namespace levels

@@ -23,6 +23,24 @@ struct BoxDef {
   int line = 0;  ///< where it was defined
 };
 
+/// A straight staircase along +X: `steps` risers up (the last tread is `top` deep, a landing) and, with
+/// `down`, steps - 1 treads back down, so that the way down has as many risers as the way up.
+struct StairsDef {
+  std::string name = "stairs";
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();  ///< front edge of the first step (x), centre line (y)
+  int steps = 1;
+  double rise = 0.1, run = 0.3, width = 1.5, top = 0.3;
+  bool down = false;
+  uint32_t rgba = 0xc8b08aff;
+  int line = 0;
+};
+
+/// The staircase as boxes, each a column from the ground up to its tread, named NAME_up1..., NAME_down...
+std::vector<BoxDef> expandStairs(const StairsDef& stairs);
+
+/// X where the staircase ends (the back edge of its last tread).
+double stairsEndX(const StairsDef& stairs);
+
 /// A loaded level.
 struct Level {
   std::string name, description;

@@ -10,6 +10,7 @@ namespace {
 // leg joint indices in kJointNames order
 constexpr size_t kLeftHipPitch = 0, kLeftKnee = 3, kLeftAnklePitch = 4;
 constexpr size_t kRightHipPitch = 6, kRightKnee = 9, kRightAnklePitch = 10;
+constexpr size_t kLeftShoulderPitch = 13, kRightShoulderPitch = 18;
 
 }  // namespace
 
@@ -60,9 +61,24 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
     out->target[kLeftAnklePitch] -= swing;
     out->target[kRightHipPitch] -= swing;
     out->target[kRightAnklePitch] += swing;
+    const double arms = skill.prior.armSwing * command.vx * std::cos(M_PI * tp / skill.prior.halfPeriodTicks);
+    out->target[kLeftShoulderPitch] -= arms;
+    out->target[kRightShoulderPitch] += arms;
   }
   if (skill.prior.kind == PriorDef::Kind::Pose)
     for (size_t j = 0; j < size_t(kNumJoints); ++j) out->target[j] += command.amplitude * skill.prior.poseOffset[j];
+  if (skill.prior.kind == PriorDef::Kind::Kick) {
+    const double p = double(tp) / (2.0 * skill.prior.halfPeriodTicks);  // 0..1 through the kick cycle
+    const double lift = p < 0.35 ? 0.5 * (1.0 - std::cos(M_PI * p / 0.35)) : p < 0.8 ? 1.0 : 0.5 * (1.0 + std::cos(M_PI * (p - 0.8) / 0.2));
+    const double swing = p >= 0.4 && p < 0.6 ? 0.5 * (1.0 - std::cos(2.0 * M_PI * (p - 0.4) / 0.2)) : 0.0;
+    for (size_t j = 0; j < size_t(kNumJoints); ++j)
+      out->target[j] += lift * skill.prior.poseOffset[j] + swing * skill.prior.swingOffset[j];
+  }
+  if (skill.prior.kind == PriorDef::Kind::Jump) {
+    const double p = double(tp) / (2.0 * skill.prior.halfPeriodTicks);  // 0..1 through the jump cycle
+    const double c = p < 0.6 ? skill.prior.crouch * 0.5 * (1.0 - std::cos(2.0 * M_PI * p / 0.6)) : 0.0;
+    for (size_t j = 0; j < size_t(kNumJoints); ++j) out->target[j] += c * skill.prior.poseOffset[j];
+  }
   for (size_t j = 0; j < size_t(kNumJoints); ++j)
     out->target[j] = std::clamp(out->target[j], model.joints[j].lower, model.joints[j].upper);
 }

@@ -51,6 +51,15 @@ struct Reader {
     const toml::node* n = t.get(key);
     return n ? number(*n, where + "." + key, lo, hi) : fallback;
   }
+  // [a, b] with no order between them
+  std::array<double, 2> pair(const toml::table& t, const char* key, std::array<double, 2> fallback, double lo, double hi,
+                             const std::string& where) const {
+    const toml::node* n = t.get(key);
+    if (!n) return fallback;
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != 2) throw Error(located(file, line(*n), where + "." + key + " must be [x, y]"));
+    return {number((*a)[0], where + "." + key, lo, hi), number((*a)[1], where + "." + key, lo, hi)};
+  }
   Range range(const toml::table& t, const char* key, Range fallback, double lo, double hi, const std::string& where) const {
     const toml::node* n = t.get(key);
     if (!n) return fallback;
@@ -131,7 +140,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     const toml::table* t = v.as_table();
     if (!t) throw Error(located(path, s.line, where + " must be a table"));
     r.onlyKeys(*t, {"parent", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
-                    "termination", "randomisation", "training", "card", "terrain"},
+                    "termination", "randomisation", "training", "card", "terrain", "ball"},
                where);
     if (const toml::node* p = t->get("parent")) {
       auto v2 = p->value<std::string>();
@@ -145,15 +154,27 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
-      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stride", "offset"}, where + ".prior");
+      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stride", "arm_swing", "offset", "crouch", "swing"}, where + ".prior");
       const std::string type = p->get("type") && p->get("type")->value<std::string>() ? *p->get("type")->value<std::string>() : "";
       if (type == "phase") s.prior.kind = PriorDef::Kind::Phase;
       else if (type == "pose") s.prior.kind = PriorDef::Kind::Pose;
+      else if (type == "jump") s.prior.kind = PriorDef::Kind::Jump;
+      else if (type == "kick") s.prior.kind = PriorDef::Kind::Kick;
       else if (type == "none") s.prior.kind = PriorDef::Kind::None;
-      else throw Error(located(path, r.line(*p), where + ".prior.type must be \"phase\", \"pose\" or \"none\""));
+      else throw Error(located(path, r.line(*p), where + ".prior.type must be \"phase\", \"pose\", \"jump\", \"kick\" or \"none\""));
       const toml::node* offset = p->get("offset");
-      if ((s.prior.kind == PriorDef::Kind::Pose) != (offset != nullptr))
-        throw Error(located(path, r.line(*p), where + ".prior: a \"pose\" prior needs offset = { group = rad, ... }, and only it"));
+      const bool needsOffset = s.prior.kind == PriorDef::Kind::Pose || s.prior.kind == PriorDef::Kind::Jump ||
+                               s.prior.kind == PriorDef::Kind::Kick;
+      if (needsOffset != (offset != nullptr))
+        throw Error(located(path, r.line(*p), where + ".prior: \"pose\", \"jump\" and \"kick\" priors need offset = { group = rad, ... }, and only they"));
+      const toml::node* swing = p->get("swing");
+      if ((s.prior.kind == PriorDef::Kind::Kick) != (swing != nullptr))
+        throw Error(located(path, r.line(*p), where + ".prior: a \"kick\" prior needs swing = { group = rad, ... }, and only it"));
+      if (swing) {
+        if (!swing->as_table()) throw Error(located(path, r.line(*swing), where + ".prior.swing must be a table of joint groups"));
+        r.groups(*swing->as_table(), where + ".prior.swing", model, &s.prior.swingOffset, nullptr, -3, 3);
+      }
+      s.prior.crouch = r.number(*p, "crouch", 0, 0, 1, where + ".prior");
       if (offset) {
         if (!offset->as_table()) throw Error(located(path, r.line(*offset), where + ".prior.offset must be a table of joint groups"));
         r.groups(*offset->as_table(), where + ".prior.offset", model, &s.prior.poseOffset, nullptr, -3, 3);
@@ -162,6 +183,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.prior.dh = r.number(*p, "dh", 0, -1.5, 1.5, where + ".prior");
       s.prior.d0 = r.number(*p, "d0", 0, -1.5, 1.5, where + ".prior");
       s.prior.stride = r.number(*p, "stride", 0, 0, 1, where + ".prior");
+      s.prior.armSwing = r.number(*p, "arm_swing", 0, 0, 2, where + ".prior");
       if (const toml::node* ss = p->get("stand_still")) s.prior.standStill = ss->value<bool>().value_or(true);
     }
     Given& g = given[s.name];
@@ -222,6 +244,15 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.trainingSteps = int64_t(r.number(*tr, "steps", 1e7, 1, 1e10, where + ".training"));
       s.trainingEnvs = int(r.number(*tr, "envs", 20, 1, 1024, where + ".training"));
     }
+    if (const toml::table* bt = r.table(*t, "ball", false, where)) {
+      const std::string w = where + ".ball";
+      r.onlyKeys(*bt, {"offset", "jitter"}, w);
+      const std::array<double, 2> off = r.pair(*bt, "offset", {0.3, -0.12}, -5, 5, w);
+      s.ball.enabled = true;
+      s.ball.x = off[0];
+      s.ball.y = off[1];
+      s.ball.jitter = r.number(*bt, "jitter", 0.03, 0, 1, w);
+    }
     if (const toml::table* tt = r.table(*t, "terrain", false, where)) {
       const std::string w = where + ".terrain";
       r.onlyKeys(*tt, {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at"}, w);
@@ -247,15 +278,22 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       const std::string w = where + ".card";
       r.onlyKeys(*c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
                       "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
-                      "height_error", "lift_height", "lift_s", "success_pct", "step_height"}, w);
+                      "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
+                      "kick_speed", "kick_angle_deg"}, w);
       const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
-      if (type != "velocity" && type != "height" && type != "balance" && type != "stairs")
-        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\" or \"stairs\""));
+      if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick")
+        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\" or \"kick\""));
       CardDef& d = s.card;
       d.kind = type == "velocity" ? CardDef::Kind::Velocity
                : type == "height" ? CardDef::Kind::Height
                : type == "balance" ? CardDef::Kind::Balance
-                                   : CardDef::Kind::Stairs;
+               : type == "stairs"  ? CardDef::Kind::Stairs
+               : type == "jump"    ? CardDef::Kind::Jump
+                                   : CardDef::Kind::Kick;
+      d.kickSpeed = r.number(*c, "kick_speed", 2.5, 0, 50, w);
+      d.kickAngleDegrees = r.number(*c, "kick_angle_deg", 15, 0, 180, w);
+      d.jumpHeight = r.number(*c, "jump_height", 0.10, 0, 2, w);
+      d.jumps = int(r.number(*c, "jumps", 3, 1, 100, w));
       d.stepHeight = r.number(*c, "step_height", 0.15, 0, 0.5, w);
       d.liftHeight = r.number(*c, "lift_height", 0.08, 0, 1, w);
       d.liftSeconds = r.number(*c, "lift_s", 5, 0, 3600, w);

@@ -15,8 +15,14 @@ namespace robot {
 /// Feed-forward prior (paper §3.1): a cosine phase signal on hip/knee/ankle pitch for periodic skills, a key
 /// pose scaled by the amplitude command for aperiodic ones (squat: default pose at 0, the full pose at 1), or none.
 struct PriorDef {
-  enum class Kind { None, Phase, Pose } kind = Kind::None;
-  JointArray poseOffset{};   ///< Pose: joint offsets from the default pose at amplitude 1 [rad]
+  enum class Kind { None, Phase, Pose, Jump, Kick } kind = Kind::None;
+  JointArray poseOffset{};   ///< Pose: joint offsets from the default pose at amplitude 1 [rad]; Jump: the crouch
+  /// Jump: a 2 T1-tick cycle that sinks into `crouch` x poseOffset and back over its first 60 % (cosine), then
+  /// leaves the legs at the default pose for the flight and landing; the push itself is the policy's.
+  double crouch = 0.0;
+  /// Kick: a 2 T1-tick cycle that lifts into poseOffset over its first 35 % (cosine), adds swingOffset as a
+  /// cosine bump over 40-60 % (the kick), holds the lift and lowers the leg over the last 20 %.
+  JointArray swingOffset{};
   int halfPeriodTicks = 40;  ///< T1: ticks per leg phase (gait period = 2 T1 ticks of 0.01 s)
   double dh = 0.0;           ///< stepping amplitude [rad]: hip -= A, knee += 2A, ankle -= A with A = dh u + d0
   double d0 = 0.0;           ///< base offset [rad] added to A
@@ -25,6 +31,9 @@ struct PriorDef {
   /// right one the opposite, ankles compensate so the feet stay level): backward at lift-off, forward at
   /// touch-down, so a leg's stance sweeps it back at about the commanded speed. 0 = stepping in place.
   double stride = 0.0;
+  /// Arm swing per forward command [rad per m/s], as the lab's agent does: each shoulder pitch swings against its
+  /// own leg's hip (left shoulder - armSwing vx cos(pi tp / T1)), which cancels part of the legs' yaw torque.
+  double armSwing = 0.0;
 };
 
 /// A [lo, hi] range.
@@ -53,8 +62,9 @@ struct TerminationDef {
   double episodeSeconds = 10;  ///< time limit (a truncation, not a fall)
 };
 
-/// Terrain a skill trains on. Stairs: `steps` steps up along +X from start_x, a landing of top_depth, the same
-/// steps down; the step height comes from the curriculum's current lesson.
+/// Terrain a skill trains on. Stairs (the level format's, levels::StairsDef): `steps` risers up along +X from
+/// start_x, the last tread a landing top_depth deep, and as many risers down; the step height comes from the
+/// curriculum's current lesson.
 struct TerrainDef {
   enum class Kind { Flat, Stairs } kind = Kind::Flat;
   int steps = 10;
@@ -66,13 +76,25 @@ struct TerrainDef {
   double advanceAt = 1.0;       ///< smoothed reward per step that moves training to the next lesson
 };
 
+/// A ball placed in front of the robot at every episode start (kick): offset from the pelvis in the heading
+/// frame (x forward, y left), plus a uniform jitter; the target direction is the heading at the start.
+struct BallTaskDef {
+  bool enabled = false;
+  double x = 0.3, y = -0.12;  ///< [m]
+  double jitter = 0.03;       ///< +- [m] on x and y
+};
+
 /// A skill's report card (success criteria), measured by `treelearn eval SKILL`. A bar < 0 is not checked.
 struct CardDef {
   /// Velocity: tracking of vx / vy / wz commands (walk, run); Height: tracking of the pelvis height that the
   /// amplitude command asks for (squat). Both run randomised episodes on flat ground the same way.
   /// Balance: the right foot lifted (amplitude 1 held), success = lifted >= lift_height for lift_s without a fall.
   /// Stairs: up and down the skill's staircase at step_height; success = past its far end without a fall.
-  enum class Kind { None, Velocity, Height, Balance, Stairs } kind = Kind::None;
+  /// Jump: success = `jumps` flights in a row (both feet off the ground), each with the pelvis apex at least
+  /// jump_height above its height at the start, and no fall.
+  /// Kick: success = the ball leaves at >= kick_speed within kick_angle of the target direction and the robot
+  /// is still up at the end of the episode.
+  enum class Kind { None, Velocity, Height, Balance, Stairs, Jump, Kick } kind = Kind::None;
   int episodes = 50;            ///< randomised episodes (friction, mass, pushes as in training)
   double episodeSeconds = 20;   ///< each episode's length
   double segmentSeconds = 5;    ///< a new command this often
@@ -91,6 +113,10 @@ struct CardDef {
   double liftHeight = 0.08;     ///< Balance: the right sole counts as lifted at this height [m] ...
   double liftSeconds = 5;       ///< ... and an episode succeeds when it stays lifted this long in one go
   double stepHeight = 0.15;     ///< Stairs: the staircase's step height [m]
+  double jumpHeight = 0.10;     ///< Jump: apex above the starting pelvis height [m] ...
+  int jumps = 3;                ///< ... for this many jumps in a row
+  double kickSpeed = 2.5;       ///< Kick: ball speed [m/s] ...
+  double kickAngleDegrees = 15; ///< ... within this angle of the target direction
   double standDrift = -1;       ///< bar: max drift of a standing episode [m] (<)
 };
 
@@ -114,6 +140,7 @@ struct SkillDef {
   bool onlyPositiveRewards = true;  ///< clip each step's total reward at 0 (falling early never pays)
   CardDef card;
   TerrainDef terrain;
+  BallTaskDef ball;
   int line = 0;  ///< where it is defined
 };
 

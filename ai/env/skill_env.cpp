@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "ai/env/ball_task.h"
 #include "ai/env/terrain.h"
 #include "engine/core/error.h"
 
@@ -40,6 +41,9 @@ struct SkillEnv::Env {
   float finishedReturn = 0;
   int finishedLength = 0;
   int lesson = 0, finishedLesson = 0;  // the curriculum lesson this episode's terrain was built for
+  engine::BallId ball = -1;             // the kick's ball (-1: none)
+  engine::BallState ballState;
+  Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   std::array<float, robot::kObservationSize> finalObservation{};
 };
 
@@ -108,12 +112,15 @@ void SkillEnv::resetEnv(Env& e) {
   for (double& v : q) v += 0.02 * (2.0 * unit(e.rng) - 1.0);
   e.robot->teleport(*e.world, e.robot->linkPose(*e.world, -1), q);
   e.sensors = e.robot->sense(*e.world);
+  e.ball = skill_.ball.enabled ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
+  if (e.ball >= 0) e.ballState = e.world->ballState(e.ball);
   e.tick = 0;
   e.phase = robot::PhaseClock{};
   e.action.fill(0.0f);
   e.previousAction.fill(0.0f);
   e.episodeReturn = 0;
   sampleCommand(e);
+  if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
   const double pushEvery = r.pushEverySeconds;
   e.nextPushTick = options_.randomise && pushEvery > 0
                        ? int(std::lround((0.5 + unit(e.rng)) * pushEvery / engine::kTickSeconds))
@@ -163,9 +170,14 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     e.physicsSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     e.sensors = e.robot->sense(*e.world);
     ++e.tick;
+    if (e.ball >= 0) {
+      e.ballState = e.world->ballState(e.ball);
+      ballIntoCommand(e.sensors, e.ballState, &e.command);
+    }
 
     // reward
-    RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_};
+    RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_,
+                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection};
     double reward = 0;
     for (size_t k = 0; k < terms_.size(); ++k) {
       const double v = terms_[k].weight * terms_[k].term->value(ctx);
@@ -186,7 +198,10 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       e.world->setState(e.robot->id(), s);
       e.nextPushTick = e.tick + int(std::lround(skill_.randomisation.pushEverySeconds / engine::kTickSeconds));
     }
-    if (e.tick >= e.nextCommandTick) sampleCommand(e);
+    if (e.tick >= e.nextCommandTick) {
+      sampleCommand(e);
+      if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
+    }
 
     // episode end: a fall terminates, the time limit truncates
     const bool fell = std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||

@@ -1,27 +1,34 @@
-// terrain.cpp — see terrain.h. Step i (1-based) of the way up is a box from the ground to i * height.
+// terrain.cpp — see terrain.h. The staircase is the level format's (levels::expandStairs), so training, the
+// card and levels build the same steps.
 #include "ai/env/terrain.h"
 
+#include "levels/level.h"
+
 namespace ai {
+namespace {
+
+levels::StairsDef stairsOf(const robot::TerrainDef& t, double stepHeight) {
+  levels::StairsDef d;
+  d.start = Eigen::Vector2d(t.startX, 0.0);
+  d.steps = t.steps;
+  d.rise = stepHeight;
+  d.run = t.stepDepth;
+  d.width = t.width;
+  d.top = t.topDepth;
+  d.down = true;
+  return d;
+}
+
+}  // namespace
 
 void addTerrain(engine::PhysicsWorld& world, const robot::TerrainDef& t, double stepHeight, double friction) {
   if (t.kind != robot::TerrainDef::Kind::Stairs || stepHeight <= 0) return;
-  const Eigen::Quaterniond level = Eigen::Quaterniond::Identity();
-  auto box = [&](double x0, double x1, double top) {
-    world.addStaticBox(Eigen::Vector3d(0.5 * (x0 + x1), 0, 0.5 * top), level,
-                       Eigen::Vector3d(0.5 * (x1 - x0), 0.5 * t.width, 0.5 * top), friction);
-  };
-  const double upEnd = t.startX + t.steps * t.stepDepth, downStart = upEnd + t.topDepth;
-  for (int i = 1; i <= t.steps; ++i) {
-    const double top = i * stepHeight;
-    box(t.startX + (i - 1) * t.stepDepth, t.startX + i * t.stepDepth, top);                  // up
-    box(downStart + (t.steps - i) * t.stepDepth, downStart + (t.steps - i + 1) * t.stepDepth, top);  // down
-  }
-  box(upEnd, downStart, t.steps * stepHeight);  // the landing
+  for (const levels::BoxDef& b : levels::expandStairs(stairsOf(t, stepHeight)))
+    world.addStaticBox(b.centre, Eigen::Quaterniond::Identity(), 0.5 * b.size, friction);
 }
 
 double terrainEndX(const robot::TerrainDef& t) {
-  if (t.kind != robot::TerrainDef::Kind::Stairs) return 0;
-  return t.startX + 2 * t.steps * t.stepDepth + t.topDepth;
+  return t.kind == robot::TerrainDef::Kind::Stairs ? levels::stairsEndX(stairsOf(t, 0.1)) : 0.0;
 }
 
 }  // namespace ai

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "ai/env/worker_pool.h"
+#include "ai/env/ball_task.h"
 #include "ai/env/terrain.h"
 #include "ai/rewards/reward_terms.h"
 #include "engine/loop/clock.h"
@@ -39,7 +40,16 @@ struct Episode {
   Eigen::Vector3d velocitySum = Eigen::Vector3d::Zero();  // heading-frame vx, vy and wz after the settle time
   double heightError = 0;  // sum of |h - h_target(amplitude)| after the settle time
   int liftRun = 0, longestLift = 0;
-  double maxX = -1e9;  // furthest pelvis x (stairs)  // ticks the right sole has been (and was at most) lifted in one go
+  double maxX = -1e9;  // furthest pelvis x (stairs)
+  // jumps: the flight in progress, and the best run of qualifying jumps in a row
+  double startHeight = 0, apex = 0;
+  int flightTicks = 0, inARow = 0, bestInARow = 0, jumps = 0;
+  double bestApex = 0;
+  // kick: the ball, where it should go, and the fastest ball speed within the angle
+  engine::BallId ball = -1;
+  engine::BallState ballState;
+  Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
+  double bestKick = 0;  // ticks the right sole has been (and was at most) lifted in one go
 };
 
 // what a batch does: walking episodes randomise friction, mass and pushes and resample commands; standing and
@@ -86,9 +96,15 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
     e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, yaw, friction);
     e.sensors = e.robot->sense(*e.world);
     e.start = e.sensors.basePosition.head<2>();
+    e.startHeight = e.sensors.basePosition.z();
     e.pushes = walking && o.pushes && pushEvery > 0;
     e.nextPush = pushEvery;
     if (walking) sampleCommand(o, e);
+    if (o.kind == robot::CardDef::Kind::Kick && walk.ball.enabled) {
+      e.ball = placeBall(*e.world, walk.ball, e.sensors, e.rng, &e.kickDirection);
+      e.ballState = e.world->ballState(e.ball);
+      ballIntoCommand(e.sensors, e.ballState, &e.command);
+    }
   });
 
   for (int t = 0; t < ticks; ++t) {
@@ -139,6 +155,26 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         ++e.counted;
       }
       e.maxX = std::max(e.maxX, e.sensors.basePosition.x());
+      if (e.ball >= 0) {
+        e.ballState = e.world->ballState(e.ball);
+        ballIntoCommand(e.sensors, e.ballState, &e.command);
+        const Eigen::Vector2d v = e.ballState.velocity.head<2>();
+        const double along = v.dot(e.kickDirection);
+        const double angle = std::atan2(std::abs(v.x() * e.kickDirection.y() - v.y() * e.kickDirection.x()), along);
+        if (along > 0 && angle <= o.kickAngleDegrees * M_PI / 180.0) e.bestKick = std::max(e.bestKick, v.norm());
+      }
+      if (!e.sensors.footContact[0] && !e.sensors.footContact[1]) {
+        ++e.flightTicks;
+        e.apex = std::max(e.apex, e.sensors.basePosition.z());
+      } else if (e.flightTicks > 0) {  // landed: was it a jump?
+        const bool counts = e.flightTicks >= 3 && e.apex - e.startHeight >= o.jumpHeight;
+        e.jumps += counts;
+        e.inARow = counts ? e.inARow + 1 : 0;
+        e.bestInARow = std::max(e.bestInARow, e.inARow);
+        e.bestApex = std::max(e.bestApex, e.apex - e.startHeight);
+        e.flightTicks = 0;
+        e.apex = 0;
+      }
       const bool lifted = e.sensors.footHeight[1] >= o.liftHeight && e.sensors.footContact[0];
       e.liftRun = lifted ? e.liftRun + 1 : 0;
       e.longestLift = std::max(e.longestLift, e.liftRun);
@@ -154,6 +190,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       }
       if (walking && tick % segment == 0 && tick < ticks) {
         sampleCommand(o, e);
+        if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
         e.segmentStart = tick;
       }
     });
@@ -214,10 +251,40 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     else r.figures.push_back({name, value, bar(limit, unit), atLeast ? value >= limit : value <= limit});
   };
   add("episodes without a fall", noFall, o.noFallPercent, "%", true);
-  add("mean |v - v_cmd|", meanSpeed, o.speedError, "m/s", false);
-  add("mean |wz - wz_cmd|", meanYaw, o.yawError, "rad/s", false);
+  // tracking figures belong to the skills that move on command (and to any card that puts a bar on them)
+  const bool moves = o.kind == robot::CardDef::Kind::Velocity || o.kind == robot::CardDef::Kind::Stairs;
+  if (moves || o.speedError >= 0) add("mean |v - v_cmd|", meanSpeed, o.speedError, "m/s", false);
+  if (moves || o.yawError >= 0) add("mean |wz - wz_cmd|", meanYaw, o.yawError, "rad/s", false);
   const double meanHeight = counted ? height / double(counted) : 1e9;
   double balanceScore = 0;
+  if (o.kind == robot::CardDef::Kind::Kick) {
+    int success = 0;
+    double best = 0;
+    for (const Episode& e : walking) {
+      success += !e.fallen && e.bestKick >= o.kickSpeed;
+      best += e.bestKick / std::max(1, o.episodes);
+    }
+    char name[96];
+    std::snprintf(name, sizeof name, "kicks >= %.1f m/s within %.0f deg, robot up", o.kickSpeed, o.kickAngleDegrees);
+    add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
+    r.figures.push_back({"mean ball speed within the angle [m/s]", best, "(reported)", true});
+    balanceScore = 2.0 * success / std::max(1, o.episodes) + std::min(best, o.kickSpeed) / std::max(0.1, o.kickSpeed);
+  }
+  if (o.kind == robot::CardDef::Kind::Jump) {
+    int success = 0;
+    double jumps = 0, apex = 0;
+    for (const Episode& e : walking) {
+      success += !e.fallen && e.bestInARow >= o.jumps;
+      jumps += double(e.jumps) / std::max(1, o.episodes);
+      apex += e.bestApex / std::max(1, o.episodes);
+    }
+    char name[96];
+    std::snprintf(name, sizeof name, "episodes with %d jumps >= %.2f m in a row", o.jumps, o.jumpHeight);
+    add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
+    r.figures.push_back({"mean qualifying jumps per episode", jumps, "(reported)", true});
+    r.figures.push_back({"mean best apex above start [m]", apex, "(reported)", true});
+    balanceScore = 2.0 * success / std::max(1, o.episodes) + std::min(jumps, double(o.jumps)) / o.jumps + 5.0 * std::min(apex, 0.2);
+  }
   if (o.kind == robot::CardDef::Kind::Stairs) {
     int across = 0;
     double progress = 0;
@@ -248,7 +315,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
   if (o.kind == robot::CardDef::Kind::Height) add("mean |h - h_target| (pelvis)", meanHeight, o.heightError, "m", false);
   const char* kinds[4] = {"  of which forward/backward", "  of which sideways", "  of which turning", "  of which zero command"};
   for (int k = 0; k < 4; ++k)
-    if (kindCount[k] && o.mix[size_t(k)] < 1.0) r.figures.push_back({kinds[k], kindError[k] / double(kindCount[k]), "(reported)", true});
+    if (moves && kindCount[k] && o.mix[size_t(k)] < 1.0) r.figures.push_back({kinds[k], kindError[k] / double(kindCount[k]), "(reported)", true});
   r.figures.push_back({"mean time survived (of each episode)", 100.0 * survival, "(reported) %", true});
   if (o.standEpisodes > 0) {
     const double d = standFalls ? 1e9 : drift;

@@ -35,6 +35,8 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
   }
   const char* prior = skill.prior.kind == robot::PriorDef::Kind::Phase ? "phase"
                       : skill.prior.kind == robot::PriorDef::Kind::Pose ? "pose"
+                      : skill.prior.kind == robot::PriorDef::Kind::Jump ? "jump"
+                      : skill.prior.kind == robot::PriorDef::Kind::Kick ? "kick"
                                                                           : "none";
   std::ostringstream filter;
   filter.precision(9);
@@ -59,9 +61,15 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
                               " dh=" + std::to_string(skill.prior.dh) + " d0=" + std::to_string(skill.prior.d0) +
                               " stand_still=" + (skill.prior.standStill ? "true" : "false") +
                               (skill.prior.stride != 0 ? " stride=" + std::to_string(skill.prior.stride) : "") +
-                              (skill.prior.kind == robot::PriorDef::Kind::Pose
+                              (skill.prior.armSwing != 0 ? " arm_swing=" + std::to_string(skill.prior.armSwing) : "") +
+                              (skill.prior.kind == robot::PriorDef::Kind::Pose || skill.prior.kind == robot::PriorDef::Kind::Jump ||
+                                       skill.prior.kind == robot::PriorDef::Kind::Kick
                                    ? " offset=" + joinNumbers(skill.prior.poseOffset.data(), skill.prior.poseOffset.size())
-                                   : "")},
+                                   : "") +
+                              (skill.prior.kind == robot::PriorDef::Kind::Kick
+                                   ? " swing=" + joinNumbers(skill.prior.swingOffset.data(), skill.prior.swingOffset.size())
+                                   : "") +
+                              (skill.prior.crouch != 0 ? " crouch=" + std::to_string(skill.prior.crouch) : "")},
       {"treelearn.robot_hash", engine::toHex(model.hash)},
       {"treelearn.env_steps", std::to_string(envSteps)},
       {"treelearn.seed", std::to_string(seed)},

@@ -57,6 +57,7 @@ struct Trainer::RolloutStats {
 Trainer::Trainer(VecEnv& env, const PpoConfig& config, TrainerOptions options)
     : env_(env), config_(config), options_(std::move(options)), updater_(config) {
   validatePpoConfig(config_, "ppo config");
+  Eigen::setNbThreads(1);  // products outside the update (batched inference) stay on this thread
   if (options_.runDir.empty()) throw Error("trainer: runDir is empty");
   if (options_.totalSteps <= 0) throw Error("trainer: totalSteps must be positive");
   if (options_.evalEvery < 1 || options_.checkpointEvery < 1)
@@ -292,7 +293,9 @@ void Trainer::run() {
     try {
       collectRollout(&rollout, &timing);
       const Clock::time_point updateStart = Clock::now();
+      Eigen::setNbThreads(options_.updateThreads);
       stats = updater_.update(buffer_, coefficients, &rng_, &policy_);
+      Eigen::setNbThreads(1);
       timing.update = secondsSince(updateStart);
     } catch (const TrainingDiverged& e) {
       const std::string dump = options_.runDir + "/diverged.bin";

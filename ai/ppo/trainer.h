@@ -51,6 +51,8 @@ struct TrainerOptions {
   int evalEvery = 10;
   /// Iterations between checkpoints (and always after the last iteration). 1 = every iteration.
   int checkpointEvery = 1;
+  /// Threads for the matrix products of the PPO update (Eigen with OpenMP); the rest of the process uses 1.
+  int updateThreads = 1;
 };
 
 class Trainer {

@@ -15,6 +15,16 @@ double velocity(const RewardContext& c) {
   return 1.0 - 2.0 * std::abs(v.x() - c.command->vx) - 2.0 * std::abs(v.y() - c.command->vy);
 }
 double yawRate(const RewardContext& c) { return 1.0 - 2.0 * std::abs(c.sensors->angularVelocity.z() - c.command->wz); }
+// legged_gym-style kernels: in (0, 1], smooth, never negative, so the step's clip at 0 never hides them
+double velocityExp(const RewardContext& c) {
+  const Eigen::Vector3d& v = c.sensors->linearVelocity;
+  const double e2 = (v.x() - c.command->vx) * (v.x() - c.command->vx) + (v.y() - c.command->vy) * (v.y() - c.command->vy);
+  return std::exp(-e2 / 0.5);
+}
+double yawRateExp(const RewardContext& c) {
+  const double e = c.sensors->angularVelocity.z() - c.command->wz;
+  return std::exp(-e * e / 0.5);
+}
 double orientation(const RewardContext& c) {
   return -0.1 * std::abs(c.sensors->roll * kDeg) - 0.1 * std::abs(c.sensors->pitch * kDeg);
 }
@@ -40,6 +50,19 @@ double footLift(const RewardContext& c) {
   const double e = (c.sensors->footHeight[1] - kFootLiftHeight * c.command->amplitude) / 0.04;
   return std::exp(-e * e);
 }
+double jumpHeight(const RewardContext& c) {
+  return std::min(1.5, std::max(0.0, c.sensors->basePosition.z() - kStandingPelvisHeight) / 0.10);
+}
+double airTime(const RewardContext& c) { return !c.sensors->footContact[0] && !c.sensors->footContact[1] ? 1.0 : 0.0; }
+double ballSpeed(const RewardContext& c) {
+  if (!c.ball) return 0.0;
+  return std::clamp(c.ball->velocity.head<2>().dot(c.kickDirection), 0.0, 3.5) / 2.5;
+}
+double ballStraight(const RewardContext& c) {
+  if (!c.ball) return 0.0;
+  const Eigen::Vector2d v = c.ball->velocity.head<2>();
+  return -std::abs(v.x() * c.kickDirection.y() - v.y() * c.kickDirection.x());
+}
 double heightTrack(const RewardContext& c) {
   const double e = (c.sensors->basePosition.z() - targetPelvisHeight(*c.skill, c.command->amplitude)) / 0.05;
   return std::exp(-e * e);
@@ -51,6 +74,8 @@ const std::vector<RewardTerm>& rewardTermTable() {
   static const std::vector<RewardTerm> kTable = {
       {"velocity", &velocity, "1 - 2|vx - vx_cmd| - 2|vy - vy_cmd| (pelvis frame)"},
       {"yaw_rate", &yawRate, "1 - 2|wz - wz_cmd|"},
+      {"velocity_exp", &velocityExp, "exp(-|v_xy - v_cmd_xy|^2 / 0.5) (pelvis frame)"},
+      {"yaw_rate_exp", &yawRateExp, "exp(-(wz - wz_cmd)^2 / 0.5)"},
       {"height", &height, "2 (h - 0.78 m)"},
       {"orientation", &orientation, "-0.1|roll_deg| - 0.1|pitch_deg|"},
       {"live", &live, "1"},
@@ -58,6 +83,10 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"action_rate", &actionRate, "-sum_j (a_j - a_prev_j)^2"},
       {"vertical_velocity", &verticalVelocity, "-|vz|"},
       {"height_track", &heightTrack, "exp(-((h - h_target(amplitude)) / 0.05 m)^2)"},
+      {"jump_height", &jumpHeight, "min(1.5, max(0, h - 0.784 m) / 0.10 m)"},
+      {"air_time", &airTime, "1 while neither foot touches the ground"},
+      {"ball_speed", &ballSpeed, "min(3.5, max(0, v_ball . target)) / 2.5 m/s"},
+      {"ball_straight", &ballStraight, "-|v_ball x target| (sideways ball speed)"},
       {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m amplitude) / 0.04 m)^2)"},
   };
   return kTable;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/physics/physics_world.h"
 #include "robot/skill_layout.h"
 #include "robot/skill_tree.h"
 
@@ -18,7 +19,12 @@ struct RewardContext {
   const std::array<float, robot::kActionSize>* action = nullptr;          ///< clipped policy output this tick
   const std::array<float, robot::kActionSize>* previousAction = nullptr;  ///< the tick before
   const robot::SkillDef* skill = nullptr;                                  ///< the skill being trained
+  const engine::BallState* ball = nullptr;  ///< the kick's ball, if the skill has one
+  Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();  ///< where the ball should go (world unit vector)
 };
+
+/// The pelvis height of the G1 standing in its default pose (reference/g1/FACTS.md) [m].
+constexpr double kStandingPelvisHeight = 0.784;
 
 /// foot_lift: the right sole's target height at amplitude 1 [m] (one_leg stands on the left leg).
 constexpr double kFootLiftHeight = 0.12;

@@ -71,6 +71,7 @@ struct PhysicsWorld::Impl {
   std::vector<std::unique_ptr<btMultiBodyConstraint>> constraints;
   std::vector<std::unique_ptr<btMultiBody>> bodies;
   std::vector<Articulation> articulations;
+  std::vector<btRigidBody*> balls;  // owned by `objects`
   int contactPoints = 0;
   double lastDt = 0.002;
 
@@ -144,6 +145,46 @@ int PhysicsWorld::addStaticBox(const Eigen::Vector3d& centre, const Eigen::Quate
   impl_->world->addRigidBody(body);
   return static_cast<int>(impl_->objects.size()) - 1;
 }
+
+BallId PhysicsWorld::addBall(const BallDef& def, const Eigen::Vector3d& centre) {
+  if (!(def.radius > 0) || !(def.mass > 0)) throw Error("physics: a ball needs a positive radius and mass");
+  auto* shape = impl_->own(new btSphereShape(btScalar(def.radius)));
+  btVector3 inertia(0, 0, 0);
+  shape->calculateLocalInertia(btScalar(def.mass), inertia);
+  btRigidBody::btRigidBodyConstructionInfo info(btScalar(def.mass), nullptr, shape, inertia);
+  info.m_friction = btScalar(def.friction);
+  info.m_restitution = btScalar(def.restitution);
+  info.m_rollingFriction = btScalar(def.rollingFriction);
+  info.m_startWorldTransform = btTransform(btQuaternion::getIdentity(), toBt(centre));
+  auto* body = new btRigidBody(info);
+  body->setActivationState(DISABLE_DEACTIVATION);
+  impl_->objects.emplace_back(body);
+  impl_->world->addRigidBody(body);
+  impl_->balls.push_back(body);
+  return static_cast<BallId>(impl_->balls.size()) - 1;
+}
+
+BallState PhysicsWorld::ballState(BallId id) const {
+  if (id < 0 || id >= ballCount()) throw Error("physics: bad ball id");
+  const btRigidBody* b = impl_->balls[static_cast<size_t>(id)];
+  BallState s;
+  const btVector3& p = b->getWorldTransform().getOrigin();
+  s.position = Eigen::Vector3d(p.x(), p.y(), p.z());
+  s.velocity = Eigen::Vector3d(b->getLinearVelocity().x(), b->getLinearVelocity().y(), b->getLinearVelocity().z());
+  s.angularVelocity =
+      Eigen::Vector3d(b->getAngularVelocity().x(), b->getAngularVelocity().y(), b->getAngularVelocity().z());
+  return s;
+}
+
+void PhysicsWorld::setBallState(BallId id, const BallState& s) {
+  if (id < 0 || id >= ballCount()) throw Error("physics: bad ball id");
+  btRigidBody* b = impl_->balls[static_cast<size_t>(id)];
+  b->setWorldTransform(btTransform(btQuaternion::getIdentity(), toBt(s.position)));
+  b->setLinearVelocity(toBt(s.velocity));
+  b->setAngularVelocity(toBt(s.angularVelocity));
+}
+
+int PhysicsWorld::ballCount() const { return static_cast<int>(impl_->balls.size()); }
 
 ArticulationId PhysicsWorld::addArticulation(const ArticulationDef& def, const Eigen::Isometry3d& basePose,
                                              double friction) {
@@ -358,6 +399,16 @@ uint64_t PhysicsWorld::stateHash() const {
       h.value(mb->getJointPos(i));
       h.value(mb->getJointVel(i));
     }
+  }
+  for (const btRigidBody* b : impl_->balls) {
+    vec(b->getWorldTransform().getOrigin());
+    const btQuaternion r = b->getWorldTransform().getRotation();
+    h.value(r.x());
+    h.value(r.y());
+    h.value(r.z());
+    h.value(r.w());
+    vec(b->getLinearVelocity());
+    vec(b->getAngularVelocity());
   }
   return h.value();
 }

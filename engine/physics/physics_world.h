@@ -22,6 +22,25 @@ struct PhysicsSettings {
 /// Handle of an articulation inside a PhysicsWorld.
 using ArticulationId = int;
 
+/// Handle of a ball (a dynamic sphere: the Mario ball, the kick skill's ball).
+using BallId = int;
+
+/// A ball's physical properties.
+struct BallDef {
+  double radius = 0.11;          ///< [m] (a size-5 football)
+  double mass = 0.43;            ///< [kg]
+  double friction = 0.6;
+  double restitution = 0.6;      ///< bounciness, 0..1
+  double rollingFriction = 0.01; ///< [m] lever arm of Bullet's rolling resistance
+};
+
+/// A ball's state in world coordinates.
+struct BallState {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();
+};
+
 class PhysicsWorld {
  public:
   explicit PhysicsWorld(const PhysicsSettings& settings = {});
@@ -35,6 +54,18 @@ class PhysicsWorld {
   /// Adds a static box (centre, rotation, half sizes in metres). Returns its index.
   int addStaticBox(const Eigen::Vector3d& centre, const Eigen::Quaterniond& rotation,
                    const Eigen::Vector3d& halfExtents, double friction);
+
+  /// Adds a ball at rest with its centre at `centre`. It never falls asleep (deterministic and responsive).
+  BallId addBall(const BallDef& def, const Eigen::Vector3d& centre);
+
+  /// The ball's position and velocities.
+  BallState ballState(BallId id) const;
+
+  /// Teleports the ball (position and velocities).
+  void setBallState(BallId id, const BallState& state);
+
+  /// Number of balls.
+  int ballCount() const;
 
   /// Builds an articulation with its base link frame at basePose and all joints at q = 0.
   ArticulationId addArticulation(const ArticulationDef& def, const Eigen::Isometry3d& basePose, double friction);

@@ -183,6 +183,30 @@ TEST(Cli, BranchWithoutParentModelIsAnError) {
   EXPECT_NE(r.out.find("train walk first"), std::string::npos) << r.out;
 }
 
+TEST(Cli, EveryShippedCardReproducesItsRecord) {
+  // retention: a skill's card, re-run with its seed on the shipped model, must equal the record kept when the
+  // model was shipped (training other skills never touches it; same binary, same numbers)
+  const std::string dir = kSource + "/assets/skills";
+  int checked = 0;
+  for (const auto& f : fs::directory_iterator(dir)) {
+    const std::string name = f.path().filename();
+    if (name.size() < 10 || name.substr(name.size() - 9) != ".card.txt") continue;
+    const std::string skill = name.substr(0, name.size() - 9);
+    const CliRun r = run("eval " + skill);
+    EXPECT_NE(r.out.find("identical to the card recorded"), std::string::npos) << skill << ":\n" << r.out;
+    ++checked;
+  }
+  EXPECT_GE(checked, 1) << "no card records in assets/skills";
+}
+
+TEST(Cli, TreeShowsEverySkillWithItsKeyAndCard) {
+  const CliRun r = run("tree");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* skill : {"walk", "run", "stairs", "squat", "jump", "one_leg"})
+    EXPECT_NE(r.out.find(skill), std::string::npos) << skill << "\n" << r.out;
+  EXPECT_NE(r.out.find("└─"), std::string::npos) << r.out;
+}
+
 TEST(Cli, UnknownSkillIsAnError) {
   const CliRun r = run("train flyer --steps 10");
   EXPECT_EQ(r.code, 2);

@@ -57,3 +57,57 @@ TEST(PosePrior, OneLegPoseLiftsTheRightSoleAboveTheCardHeight) {
   EXPECT_GT(s.footHeight[1], 0.10);
   EXPECT_LT(s.footHeight[1], 0.20);
 }
+
+TEST(PosePrior, JumpCrouchCycleAloneKeepsTheRobotUpAndOnTheGround) {
+  // without a policy the jump prior only sinks and rises: the robot must stay up, and it must not leave the
+  // ground by itself (the jump is the policy's to learn)
+  const robot::RobotModel& model = fixtures::robotModel();
+  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", model);
+  const robot::SkillDef& jump = *tree.find("jump");
+  engine::PhysicsWorld world;
+  world.addGround(1.0);
+  robot::Robot r(model, world, 0, 0, 0);
+  const std::array<float, robot::kActionSize> zero{};
+  robot::PhaseClock clock;
+  double minHeight = 1e9, maxTilt = 0;
+  int airborne = 0;
+  for (int tick = 0; tick < 300; ++tick) {  // three cycles
+    clock.advance(jump.prior.halfPeriodTicks);
+    robot::PdCommand pd;
+    robot::skillPdCommand(model, jump, zero, clock.tp, robot::SkillCommand{}, &pd);
+    r.setCommand(pd);
+    for (int k = 0; k < game::kSubsteps; ++k) {
+      r.applyPd(world);
+      world.step(game::kSubstepSeconds);
+    }
+    const robot::Sensors s = r.sense(world);
+    minHeight = std::min(minHeight, s.basePosition.z());
+    maxTilt = std::max(maxTilt, s.tilt);
+    if (tick >= 20) airborne += !s.footContact[0] && !s.footContact[1];  // after the spawn settles
+  }
+  EXPECT_LT(minHeight, 0.72);  // it really crouches (half the squat pose)
+  EXPECT_GT(minHeight, 0.6);
+  EXPECT_LT(maxTilt, 0.3);
+  EXPECT_EQ(airborne, 0);
+}
+
+TEST(PosePrior, KickSwingReachesThroughTheBallPosition) {
+  // kinematics only: at the top of the swing (half-way through the cycle) the right foot is further forward
+  // than the ball's centre, and low enough to meet it (ball radius 0.11 m)
+  const robot::RobotModel& model = fixtures::robotModel();
+  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", model);
+  const robot::SkillDef& kick = *tree.find("kick");
+  engine::PhysicsWorld world;
+  robot::Robot r(model, world, 0, 0, 0);
+  const std::array<float, robot::kActionSize> zero{};
+  double reach = -1, footZ = 0;
+  for (int tp = 0; tp <= 2 * kick.prior.halfPeriodTicks; ++tp) {
+    robot::PdCommand pd;
+    robot::skillPdCommand(model, kick, zero, tp, robot::SkillCommand{}, &pd);
+    r.teleport(world, r.linkPose(world, -1), pd.target);
+    const Eigen::Vector3d foot = world.linkPose(r.id(), model.rightFoot).translation();
+    if (foot.x() > reach) reach = foot.x(), footZ = r.sense(world).footHeight[1];
+  }
+  EXPECT_GT(reach, kick.ball.x);  // pelvis at x = 0
+  EXPECT_LT(footZ, 0.22);         // below the top of the ball
+}

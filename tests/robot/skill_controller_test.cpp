@@ -87,6 +87,12 @@ TEST(SkillController, StrideSwingsTheHipsBackAtLiftOffAndForwardAtTouchDown) {
   EXPECT_NEAR(pd.target[4], -0.2 - 0.2, 1e-12);  // its ankle compensates: the sole stays level
   EXPECT_NEAR(pd.target[6], -0.1 - 0.2, 1e-12);
   EXPECT_NEAR(pd.target[10], -0.2 + 0.2, 1e-12);
+  EXPECT_NEAR(pd.target[13], 0.2, 1e-12);  // no arm swing configured: shoulders at their default
+  skill.prior.armSwing = 0.5;             // 0.4 rad at 0.8 m/s: the left arm forward while its leg is back
+  robot::skillPdCommand(model(), skill, action, 0, cmd, &pd);
+  EXPECT_NEAR(pd.target[13], 0.2 - 0.4, 1e-12);
+  EXPECT_NEAR(pd.target[18], 0.2 + 0.4, 1e-12);
+  skill.prior.armSwing = 0.0;
   // tp = T1: the left leg touches down in front (cos(pi) = -1)
   robot::skillPdCommand(model(), skill, action, 40, cmd, &pd);
   EXPECT_NEAR(pd.target[0], -0.1 - 0.2, 1e-12);

@@ -1,0 +1,69 @@
+// reward_terms_test.cpp — each named reward term against a hand-computed value.
+#include "ai/rewards/reward_terms.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace {
+
+double term(const std::string& name, const ai::RewardContext& c) {
+  for (const ai::RewardTerm& t : ai::rewardTermTable())
+    if (name == t.name) return t.value(c);
+  ADD_FAILURE() << "no term " << name;
+  return 0;
+}
+
+struct Context {
+  robot::Sensors sensors;
+  robot::SkillCommand command;
+  std::array<float, robot::kActionSize> action{}, previous{};
+  robot::SkillDef skill;
+  engine::BallState ball;
+  ai::RewardContext get(bool withBall = false) {
+    return {&sensors, &command, &action, &previous, &skill, withBall ? &ball : nullptr, Eigen::Vector2d(1, 0)};
+  }
+};
+
+}  // namespace
+
+TEST(RewardTerms, VelocityTermsPenaliseTheTrackingError) {
+  Context c;
+  c.sensors.linearVelocity = Eigen::Vector3d(0.5, 0.1, 0.0);
+  c.command.vx = 0.8;  // error (-0.3, 0.1)
+  EXPECT_NEAR(term("velocity", c.get()), 1 - 2 * 0.3 - 2 * 0.1, 1e-12);
+  EXPECT_NEAR(term("velocity_exp", c.get()), std::exp(-(0.09 + 0.01) / 0.5), 1e-12);
+  c.sensors.angularVelocity.z() = 0.4;
+  c.command.wz = -0.1;
+  EXPECT_NEAR(term("yaw_rate", c.get()), 1 - 2 * 0.5, 1e-12);
+  EXPECT_NEAR(term("yaw_rate_exp", c.get()), std::exp(-0.25 / 0.5), 1e-12);
+}
+
+TEST(RewardTerms, HeightAndFootTermsPeakAtTheirTargets) {
+  Context c;
+  c.skill.commands.pelvisHeight = {0.78, 0.56};
+  c.command.amplitude = 0.5;  // target 0.67 m
+  c.sensors.basePosition.z() = 0.67;
+  EXPECT_NEAR(term("height_track", c.get()), 1.0, 1e-12);
+  c.sensors.basePosition.z() = 0.72;  // 0.05 m too high: exp(-1)
+  EXPECT_NEAR(term("height_track", c.get()), std::exp(-1.0), 1e-9);
+  c.command.amplitude = 1.0;
+  c.sensors.footHeight = {0.0, 0.12};
+  EXPECT_NEAR(term("foot_lift", c.get()), 1.0, 1e-12);
+  c.sensors.basePosition.z() = 0.784 + 0.05;  // half-way to a counted jump
+  EXPECT_NEAR(term("jump_height", c.get()), 0.5, 1e-9);
+  c.sensors.footContact = {false, false};
+  EXPECT_EQ(term("air_time", c.get()), 1.0);
+  c.sensors.footContact = {true, false};
+  EXPECT_EQ(term("air_time", c.get()), 0.0);
+}
+
+TEST(RewardTerms, BallTermsRewardSpeedAlongTheTargetOnly) {
+  Context c;
+  EXPECT_EQ(term("ball_speed", c.get(false)), 0.0);  // a skill without a ball
+  c.ball.velocity = Eigen::Vector3d(2.0, -0.5, 0.0);
+  EXPECT_NEAR(term("ball_speed", c.get(true)), 2.0 / 2.5, 1e-12);
+  EXPECT_NEAR(term("ball_straight", c.get(true)), -0.5, 1e-12);
+  c.ball.velocity = Eigen::Vector3d(-3.0, 0.0, 0.0);  // backwards earns nothing
+  EXPECT_EQ(term("ball_speed", c.get(true)), 0.0);
+}
