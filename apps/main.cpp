@@ -56,8 +56,13 @@ std::string summaryText(const levels::Level& level, const game::PlayResult& r, c
   std::snprintf(line, sizeof line, "time       %.2f s simulated in %.2f s wall (%.1fx real time)\n", simSeconds,
                 r.wallSeconds, r.wallSeconds > 0 ? simSeconds / r.wallSeconds : 0.0);
   s << line;
-  s << "score      0 (this level has no scoring entities)\n";
-  s << "falls      " << (r.fallen ? 1 : 0);
+  if (level.isGame()) {
+    std::snprintf(line, sizeof line, "score      %d (coins %d, gifts %d)\n", r.score, r.coins, r.gifts);
+    s << line;
+  } else {
+    s << "score      0 (this level has no scoring entities)\n";
+  }
+  s << "falls      " << t.falls;
   if (r.fallen) {
     std::snprintf(line, sizeof line, " (at %.2f s)", double(r.fallTick) * engine::kTickSeconds);
     s << line;
@@ -90,6 +95,10 @@ std::string summaryText(const levels::Level& level, const game::PlayResult& r, c
                 r.finalSensors.basePosition.y(), t.distance);
   s << line;
   s << "state hash " << engine::toHex(r.finalHash) << " after " << r.ticks << " ticks\n";
+  for (const game::CourseEvent& e : r.events) {
+    std::snprintf(line, sizeof line, "event      %7.2f s  %s\n", double(e.tick) * engine::kTickSeconds, e.what.c_str());
+    s << line;
+  }
   return s.str();
 }
 
@@ -135,7 +144,7 @@ int cmdPlay(const PlayArgs& a) {
   if (a.autopilot) throw engine::Error("--autopilot: no autopilot yet (it arrives with the Mario level)");
   if (!a.expect.empty() && a.expect != "alive" && a.expect != "win")
     throw engine::Error("--expect must be 'alive' or 'win', not '" + a.expect + "'");
-  if (a.expect == "win")
+  if (a.expect == "win" && !level.isGame())
     throw engine::Error(level.path + ": level '" + level.name + "' has no goal, so it cannot be won (use --expect alive)");
 
   game::PlayOptions options;
@@ -153,8 +162,12 @@ int cmdPlay(const PlayArgs& a) {
     std::fprintf(stderr, "warning: the key script runs past --seconds %.2f; later events are ignored\n", seconds);
 
   const game::PlayResult r = runWithOutput(level, model, options, a.out);
-  const char* outcome = r.fallen ? "fell" : "alive (no fall)";
-  const std::string summary = summaryText(level, r, outcome);
+  std::string outcome = r.fallen ? "fell" : "alive (no fall)";
+  if (level.isGame())
+    outcome = r.outcome == game::Outcome::Won    ? "won (" + r.outcomeReason + ")"
+              : r.outcome == game::Outcome::Lost ? "lost (" + r.outcomeReason + ")"
+                                                 : std::string("not finished (the run ended first)");
+  const std::string summary = summaryText(level, r, outcome.c_str());
   std::fputs(summary.c_str(), stdout);
   if (!a.summary.empty()) engine::writeFileAtomic(a.summary, summary);
 
@@ -172,6 +185,14 @@ int cmdPlay(const PlayArgs& a) {
     replay.states = r.hashes;
     engine::saveReplay(a.record, replay);
     std::printf("replay     %s (%zu events, %zu state hashes)\n", a.record.c_str(), replay.events.size(), replay.states.size());
+  }
+  if (a.expect == "win") {
+    if (r.outcome != game::Outcome::Won) {
+      std::printf("expectation 'win' FAILED: %s\n", outcome.c_str());
+      return kExitExpectationFailed;
+    }
+    std::printf("expectation 'win' met\n");
+    return 0;
   }
   if (a.expect == "alive" && r.fallen) {
     std::printf("expectation 'alive' FAILED: the robot fell at %.2f s\n", double(r.fallTick) * engine::kTickSeconds);

@@ -97,7 +97,7 @@ int runTrain(const TrainOptions& o) {
           card);
       std::printf("  eval: ");
       for (const auto& f : r.figures) std::printf("%s %.3f  ", f.name.c_str(), f.value);
-      std::printf("-> score %.3f\n", r.score);
+      std::printf("-> score %.3f (%d-episode card %s)\n", r.score, card.card.episodes, r.pass ? "PASSES" : "fails");
       return r.score;
     };
   }

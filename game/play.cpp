@@ -34,6 +34,7 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     if (options.frameEvery > 0 && options.onFrame && done % options.frameEvery == 0)
       options.onFrame(session.snapshot(options.camera));
     if (options.stopOnFall && session.fallen()) break;
+    if (session.outcome() != Outcome::Playing) break;
   }
   result.ticks = session.tick();
   result.fallen = session.fallen();
@@ -41,6 +42,14 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
   result.finalHash = session.stateHash();
   result.telemetry = session.telemetry();
   result.finalSensors = session.sensors();
+  if (const Course* c = session.course()) {
+    result.outcome = c->outcome();
+    result.outcomeReason = c->outcomeReason();
+    result.score = c->score();
+    result.coins = c->coins();
+    result.gifts = c->gifts();
+    result.events = c->events();
+  }
   result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -37,6 +37,11 @@ struct PlayResult {
   Telemetry telemetry;
   robot::Sensors finalSensors;
   double wallSeconds = 0;
+  // game levels
+  Outcome outcome = Outcome::Playing;       ///< won or lost ends the run early
+  std::string outcomeReason;
+  int score = 0, coins = 0, gifts = 0;
+  std::vector<CourseEvent> events;
 };
 
 /// Plays level with model for options.ticks ticks.

@@ -32,7 +32,7 @@ Session::Session(const levels::Level& level, const robot::RobotModel& model, con
     box.centre = b.centre;
     box.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(b.yaw, Eigen::Vector3d::UnitZ()));
     box.halfExtents = 0.5 * b.size;
-    box.rgba = b.rgba;
+    box.rgba = b.seeThrough ? (b.rgba & 0xffffff00u) | 0x40u : b.rgba;
     registry_.add(registry_.create(), box);
     physics_.addStaticBox(box.centre, box.rotation, box.halfExtents, b.friction);
     if (level.plane == levels::Plane2d::Side)
@@ -47,6 +47,40 @@ Session::Session(const levels::Level& level, const robot::RobotModel& model, con
   robot::JointArray q = robot_->command().target;
   for (double& v : q) v += kInitialJitter * (2.0 * unit(rng_) - 1.0);
   robot_->teleport(physics_, robot_->linkPose(physics_, -1), q);
+  sensors_ = robot_->sense(physics_);
+  if (level.isGame()) course_ = std::make_unique<Course>(level, physics_, plane_);
+}
+
+std::vector<BodyPoint> Session::bodyPoints() const {
+  std::vector<BodyPoint> points;
+  const engine::ArticulationDef& def = model_.articulation;
+  for (int link = -1; link < int(def.links.size()); ++link) {
+    const engine::LinkDef& l = link < 0 ? def.base : def.links[size_t(link)];
+    const bool head = l.name == "torso_link";
+    const bool hand = l.name.find("hand") != std::string::npos || l.name.find("elbow") != std::string::npos;
+    const Eigen::Isometry3d pose = robot_->linkPose(physics_, link);
+    for (const engine::ColliderDef& c : l.colliders) {
+      const Eigen::Isometry3d w = pose * c.pose;
+      if (c.kind == engine::ShapeKind::Capsule) {
+        const Eigen::Vector3d axis = w.rotation().col(2) * c.halfLength;
+        points.push_back({w.translation() + axis, c.radius, head, hand});
+        points.push_back({w.translation() - axis, c.radius, head, hand});
+      } else {
+        const double r = c.kind == engine::ShapeKind::Sphere ? c.radius : c.halfExtents.minCoeff();
+        points.push_back({w.translation(), r, head, hand});
+      }
+    }
+  }
+  return points;
+}
+
+void Session::respawn(double x) {
+  // upright, facing +X, feet on the ground in the default pose
+  Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+  base.translation() = Eigen::Vector3d(x, 0.0, model_.spawnHeight);
+  robot_->teleport(physics_, base, robot::Robot::standingCommand(model_).target);
+  action_.fill(0.0f);
+  phase_ = robot::PhaseClock{};
   sensors_ = robot_->sense(physics_);
 }
 
@@ -141,14 +175,22 @@ void Session::physicsSystem() {
   plane_.step(engine::kTickSeconds);
 }
 
+// falls (a game level may respawn the robot), then the game's rules
 void Session::rulesSystem() {
   const robot::Sensors previous = sensors_;
   sensors_ = robot_->sense(physics_);
   telemetry_.distance += (sensors_.basePosition - previous.basePosition).head<2>().norm();
-  if (!fallen_ && (sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt)) {
-    fallen_ = true;
-    fallTick_ = tick_;
+  const bool down = sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt;
+  if (down && !down_) {
+    ++telemetry_.falls;
+    if (!fallen_) fallen_ = true, fallTick_ = tick_;
+    if (course_ && course_->onFall(tick_)) {
+      respawn(course_->respawnX());
+      return;
+    }
   }
+  down_ = down;
+  if (course_) course_->update(tick_, sensors_, bodyPoints(), physics_, plane_);
 }
 
 void Session::telemetrySystem() {
@@ -173,6 +215,7 @@ uint64_t Session::stateHash() const {
   h.value(c.keysHeld);
   h.bytes(action_.data(), sizeof(float) * action_.size());
   h.value(phase_.tp);
+  if (course_) course_->hash(physics_, plane_, &h);
   return h.value();
 }
 
@@ -184,8 +227,17 @@ std::string Session::hudLine() const {
   std::string skill = activeSkillName();
   if (!active_ && c.skillRequest >= 0) skill += "<" + std::to_string(c.skillRequest);
   std::snprintf(buf, sizeof buf, "T %.2f  %s  keys %s  v %+.1f %+.1f w %+.1f%s", seconds(), skill.c_str(),
-                keys.empty() ? "-" : keys.c_str(), c.vx, c.vy, c.wz, fallen_ ? "  FALLEN" : "");
-  return buf;
+                keys.empty() ? "-" : keys.c_str(), c.vx, c.vy, c.wz, fallen_ && !course_ ? "  FALLEN" : "");
+  std::string hud = buf;
+  if (course_) {
+    char game[160];
+    const double ghost = course_->ghostDistance();
+    std::snprintf(game, sizeof game, "  score %d  coins %d  ghost %s%s", course_->score(), course_->coins() + course_->gifts(),
+                  ghost < 0 ? "-" : (std::to_string(ghost).substr(0, 4) + " m").c_str(),
+                  course_->outcome() == Outcome::Won ? "  WON" : course_->outcome() == Outcome::Lost ? "  LOST" : "");
+    hud += game;
+  }
+  return hud;
 }
 
 engine::SceneSnapshot Session::snapshot(engine::CameraMode camera) const {
@@ -228,6 +280,7 @@ engine::SceneSnapshot Session::snapshot(engine::CameraMode camera) const {
       }
     }
   });
+  if (course_) course_->draw(physics_, plane_, &s);
   s.hud = hudLine();
   return s;
 }

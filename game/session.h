@@ -15,6 +15,7 @@
 #include "engine/physics/physics_world.h"
 #include "engine/plane/plane_world.h"
 #include "engine/render/scene_snapshot.h"
+#include "game/course.h"
 #include "game/skill_set.h"
 #include "levels/level.h"
 #include "robot/robot.h"
@@ -54,6 +55,7 @@ struct Telemetry {
   double sumPelvisHeight = 0;
   double maxTilt = 0;
   double distance = 0;  ///< horizontal path length of the pelvis [m]
+  int falls = 0;        ///< times the robot went down (a game level may put it back up)
   int64_t ticks = 0;
   std::set<int> skillsRequested;
   std::set<std::string> skillsUsed;
@@ -90,6 +92,12 @@ class Session {
   const engine::PhysicsWorld& physics() const { return physics_; }
   const levels::Level& level() const { return level_; }
   const robot::Robot& robot() const { return *robot_; }
+  /// The game rules of a game level (nullptr for other levels).
+  const Course* course() const { return course_.get(); }
+  /// Playing, or won / lost (game levels only).
+  Outcome outcome() const { return course_ ? course_->outcome() : Outcome::Playing; }
+  /// The robot as spheres (collider centres), world frame.
+  std::vector<BodyPoint> bodyPoints() const;
 
  private:
   void inputSystem(const std::vector<engine::KeyEvent>& events);
@@ -98,6 +106,7 @@ class Session {
   void rulesSystem();
   void telemetrySystem();
   void switchTo(const SkillRuntime* next);
+  void respawn(double x);
 
   const levels::Level& level_;
   const robot::RobotModel& model_;
@@ -115,8 +124,9 @@ class Session {
   std::array<float, robot::kActionSize> action_{};
   robot::PhaseClock phase_;
   Eigen::MatrixXf observation_, policyOutput_;
+  std::unique_ptr<Course> course_;
   int64_t tick_ = 0;
-  bool fallen_ = false;
+  bool fallen_ = false, down_ = false;
   int64_t fallTick_ = -1;
 };
 

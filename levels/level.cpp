@@ -105,7 +105,10 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
   } catch (const toml::parse_error& e) {
     throw Error(located(fileName, static_cast<int>(e.source().begin.line), std::string(e.description())));
   }
-  r.onlyKeys(root, {"name", "description", "plane", "time_limit", "ground", "spawn", "box", "stairs"}, "the level");
+  r.onlyKeys(root, {"name", "description", "plane", "time_limit", "ground", "spawn", "box", "stairs", "wall", "tunnel",
+                    "rules", "ghost", "coin", "question_box", "ball", "goal"},
+             "the level (entity types: box, stairs, wall, tunnel, ghost, coin, question_box, ball, goal; tables: "
+             "ground, spawn, rules)");
 
   Level level;
   level.path = fileName;
@@ -193,6 +196,137 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
     def.line = line;
     for (BoxDef& b : expandStairs(def)) addBox(std::move(b));
   }
+  // transparent side walls: boxes that collide and are drawn see-through
+  for (const toml::table* t : arrayOfTables("wall")) {
+    r.onlyKeys(*t, {"name", "centre", "size", "colour"}, "[[wall]]");
+    BoxDef b;
+    b.line = r.line(*t);
+    b.name = r.text(*t, "name", "");
+    b.centre = r.vec<3>(*t, "centre", true, -kMaxCoord, kMaxCoord);
+    b.size = r.vec<3>(*t, "size", true, 0.0, 2 * kMaxCoord);
+    if (b.size.minCoeff() <= 0) throw Error(located(fileName, b.line, "wall sizes must be positive"));
+    b.rgba = r.colour(*t, 0x9fc5e8ffu);
+    b.seeThrough = true;
+    addBox(std::move(b));
+  }
+
+  // a tunnel: a ceiling slab over the course, `clearance` above the ground, from x = start for `length`
+  for (const toml::table* t : arrayOfTables("tunnel")) {
+    r.onlyKeys(*t, {"name", "start", "length", "clearance", "width", "thickness", "colour"}, "[[tunnel]]");
+    BoxDef b;
+    b.line = r.line(*t);
+    b.name = r.text(*t, "name", "tunnel");
+    const double start = r.number(*t, "start", 0, true, -kMaxCoord, kMaxCoord);
+    const double length = r.number(*t, "length", 0, true, 0.1, 100);
+    const double clearance = r.number(*t, "clearance", 0, true, 0.1, 5);
+    const double width = r.number(*t, "width", 1.5, false, 0.1, 100);
+    const double thickness = r.number(*t, "thickness", 0.2, false, 0.01, 10);
+    b.centre = Eigen::Vector3d(start + 0.5 * length, 0.0, clearance + 0.5 * thickness);
+    b.size = Eigen::Vector3d(length, width, thickness);
+    b.rgba = r.colour(*t, 0x6b8e23ffu);
+    addBox(std::move(b));
+  }
+
+  if (const toml::node* n = root.get("rules")) {
+    const toml::table& t = r.table(*n, "[rules]");
+    r.onlyKeys(t, {"falls", "fall_penalty", "coin_value", "gift_value", "win_bonus", "checkpoints"}, "[rules]");
+    RulesDef& rules = level.rules;
+    rules.present = true;
+    const std::string falls = r.text(t, "falls", "respawn");
+    if (falls == "lose") rules.falls = FallRule::Lose;
+    else if (falls == "respawn") rules.falls = FallRule::Respawn;
+    else throw Error(located(fileName, r.line(*t.get("falls")), "'falls' must be \"lose\" or \"respawn\""));
+    rules.fallPenalty = int(r.number(t, "fall_penalty", 50, false, 0, 1e6));
+    rules.coinValue = int(r.number(t, "coin_value", 10, false, 0, 1e6));
+    rules.giftValue = int(r.number(t, "gift_value", 50, false, 0, 1e6));
+    rules.winBonus = int(r.number(t, "win_bonus", 100, false, 0, 1e6));
+    if (const toml::node* c = t.get("checkpoints")) {
+      const toml::array* a = c->as_array();
+      if (!a) throw Error(located(fileName, r.line(*c), "'checkpoints' must be a list of x positions"));
+      for (const toml::node& x : *a) {
+        auto v = x.value<double>();
+        if (!v || !std::isfinite(*v)) throw Error(located(fileName, r.line(*c), "'checkpoints' must be a list of x positions"));
+        rules.checkpoints.push_back(*v);
+      }
+    }
+  }
+  for (const toml::table* t : arrayOfTables("ghost")) {
+    r.onlyKeys(*t, {"appear_x", "behind", "height", "radius", "speed", "acceleration", "max_speed", "catch_distance", "vanish_x"},
+               "[[ghost]]");
+    GhostDef g;
+    g.line = r.line(*t);
+    g.appearX = r.number(*t, "appear_x", 0, true, -kMaxCoord, kMaxCoord);
+    g.behind = r.number(*t, "behind", 4.0, false, 0.5, 100);
+    g.height = r.number(*t, "height", 1.0, false, 0.1, 10);
+    g.radius = r.number(*t, "radius", 0.4, false, 0.05, 5);
+    g.speed = r.number(*t, "speed", 0.6, false, 0, 20);
+    g.acceleration = r.number(*t, "acceleration", 0.05, false, 0, 20);
+    g.maxSpeed = r.number(*t, "max_speed", 2.5, false, 0, 20);
+    g.catchDistance = r.number(*t, "catch_distance", 0.3, false, 0, 5);
+    if (g.maxSpeed < g.speed) throw Error(located(fileName, g.line, "'max_speed' is below 'speed'"));
+    g.vanishX = r.number(*t, "vanish_x", 1e9, false, -kMaxCoord, 1e9);
+    if (g.vanishX <= g.appearX) throw Error(located(fileName, g.line, "'vanish_x' must be beyond 'appear_x'"));
+    level.ghosts.push_back(g);
+  }
+  for (const toml::table* t : arrayOfTables("coin")) {
+    r.onlyKeys(*t, {"centre", "radius"}, "[[coin]]");
+    CoinDef c;
+    c.line = r.line(*t);
+    c.centre = r.vec<3>(*t, "centre", true, -kMaxCoord, kMaxCoord);
+    c.radius = r.number(*t, "radius", 0.15, false, 0.01, 2);
+    level.coins.push_back(c);
+  }
+  for (const toml::table* t : arrayOfTables("question_box")) {
+    r.onlyKeys(*t, {"centre", "size", "content"}, "[[question_box]]");
+    QuestionBoxDef q;
+    q.line = r.line(*t);
+    q.centre = r.vec<3>(*t, "centre", true, -kMaxCoord, kMaxCoord);
+    q.size = r.vec<3>(*t, "size", false, -2 * kMaxCoord, 2 * kMaxCoord, Eigen::Vector3d(0.4, 0.4, 0.4));
+    if (q.size.minCoeff() <= 0) throw Error(located(fileName, q.line, "question box sizes must be positive"));
+    const std::string content = r.text(*t, "content", "coin");
+    if (content != "coin" && content != "gift")
+      throw Error(located(fileName, r.line(*t->get("content")), "'content' must be \"coin\" or \"gift\""));
+    q.gift = content == "gift";
+    level.questionBoxes.push_back(q);
+  }
+  for (const toml::table* t : arrayOfTables("ball")) {
+    r.onlyKeys(*t, {"position", "radius", "mass"}, "[[ball]]");
+    BallSpawnDef b;
+    b.line = r.line(*t);
+    b.position = r.vec<2>(*t, "position", true, -kMaxCoord, kMaxCoord);
+    b.radius = r.number(*t, "radius", 0.11, false, 0.02, 2);
+    b.mass = r.number(*t, "mass", 0.43, false, 0.01, 100);
+    level.balls.push_back(b);
+  }
+  for (const toml::table* t : arrayOfTables("goal")) {
+    r.onlyKeys(*t, {"centre", "size"}, "[[goal]]");
+    GoalDef g;
+    g.line = r.line(*t);
+    g.centre = r.vec<3>(*t, "centre", true, -kMaxCoord, kMaxCoord);
+    g.size = r.vec<3>(*t, "size", true, -2 * kMaxCoord, 2 * kMaxCoord);
+    if (g.size.minCoeff() <= 0) throw Error(located(fileName, g.line, "goal sizes must be positive"));
+    level.goals.push_back(g);
+  }
+  if (level.isGame() && level.goals.empty())
+    throw Error(located(fileName, r.line(*root.get("rules")), "a level with [rules] needs a [[goal]] (nothing to win)"));
+  if (!level.isGame() && (!level.ghosts.empty() || !level.coins.empty() || !level.questionBoxes.empty() ||
+                          !level.balls.empty() || !level.goals.empty()))
+    throw Error(located(fileName, 1, "ghosts, coins, question boxes, balls and goals need a [rules] table"));
+
+  // nothing may sit inside a solid box: axis-aligned overlap, ignoring box yaw (the course is axis-aligned)
+  auto inside = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& half, int line, const std::string& what) {
+    for (const BoxDef& b : level.boxes) {
+      const Eigen::Vector3d gap = (c - b.centre).cwiseAbs() - half - 0.5 * b.size;
+      if (gap.maxCoeff() < -1e-9)
+        throw Error(located(fileName, line, what + " overlaps " + (b.name.empty() ? "a box" : "'" + b.name + "'") +
+                                                " (defined on line " + std::to_string(b.line) + ")"));
+    }
+  };
+  for (const CoinDef& c : level.coins) inside(c.centre, Eigen::Vector3d::Constant(c.radius), c.line, "coin");
+  for (const QuestionBoxDef& q : level.questionBoxes) inside(q.centre, 0.5 * q.size, q.line, "question box");
+  for (const BallSpawnDef& b : level.balls)
+    inside(Eigen::Vector3d(b.position.x(), b.position.y(), b.radius), Eigen::Vector3d::Constant(b.radius), b.line, "ball");
+  for (const GoalDef& g : level.goals) inside(g.centre, 0.5 * g.size, g.line, "goal");
   return level;
 }
 
@@ -203,6 +337,7 @@ Level loadLevel(const std::string& pathOrFolder) {
   if (fs::is_directory(pathOrFolder, ec)) path = (fs::path(pathOrFolder) / "level.toml").string();
   Level level = parseLevel(engine::readFile(path), path);
   level.directory = fs::path(path).parent_path().string();
+
   return level;
 }
 

@@ -20,7 +20,66 @@ struct BoxDef {
   double yaw = 0;                                    ///< rotation about Z [rad]
   uint32_t rgba = 0x9a7b5aff;
   double friction = 1.0;
+  bool seeThrough = false;  ///< a [[wall]]: collides like any box, drawn translucent
   int line = 0;  ///< where it was defined
+};
+
+/// What happens when the robot falls in a game level.
+enum class FallRule { Lose, Respawn };
+
+/// The rules that make a level a game (a [rules] table); such a level needs a goal.
+struct RulesDef {
+  bool present = false;
+  FallRule falls = FallRule::Respawn;
+  int fallPenalty = 50;      ///< points lost per fall (respawn at the last checkpoint passed)
+  int coinValue = 10;
+  int giftValue = 50;
+  int winBonus = 100;        ///< plus 1 point per second left
+  std::vector<double> checkpoints;  ///< respawn x positions (the spawn is always one)
+};
+
+/// A ghost that appears behind the robot once it passes appear_x and chases it in the side plane.
+struct GhostDef {
+  double appearX = 0;       ///< the robot's x that wakes it [m]
+  double behind = 4.0;      ///< it appears this far behind the robot [m]
+  double height = 1.0;      ///< height of its centre [m]
+  double radius = 0.4;
+  double speed = 0.6;       ///< initial speed [m/s] ...
+  double acceleration = 0.05;  ///< ... growing by this [m/s^2] ...
+  double maxSpeed = 2.5;    ///< ... up to this
+  double catchDistance = 0.3;  ///< it catches the robot when its edge is this close to the pelvis [m]
+  double vanishX = 1e9;     ///< it gives up once the robot passes this x [m]
+  int line = 0;
+};
+
+/// A coin, collected when any part of the robot comes within radius.
+struct CoinDef {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 0.15;
+  int line = 0;
+};
+
+/// A question box: a static box that releases its content when hit from below (head or hands, going up).
+struct QuestionBoxDef {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d size = Eigen::Vector3d(0.4, 0.4, 0.4);
+  bool gift = false;        ///< content: a coin (false) or a gift (true)
+  int line = 0;
+};
+
+/// The ball to kick (a Bullet sphere resting on the ground).
+struct BallSpawnDef {
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  double radius = 0.11;
+  double mass = 0.43;
+  int line = 0;
+};
+
+/// The goal: a trigger volume; the level is won when the ball's centre is inside it.
+struct GoalDef {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d size = Eigen::Vector3d::Ones();
+  int line = 0;
 };
 
 /// A straight staircase along +X: `steps` risers up (the last tread is `top` deep, a landing) and, with
@@ -52,7 +111,16 @@ struct Level {
   double groundFriction = 1.0;
   Eigen::Vector2d spawn = Eigen::Vector2d::Zero();  ///< pelvis (x, y) [m]
   double spawnYaw = 0;                              ///< [rad]
-  std::vector<BoxDef> boxes;                        ///< boxes and expanded staircases
+  std::vector<BoxDef> boxes;                        ///< boxes, walls, tunnels and expanded staircases
+  RulesDef rules;
+  std::vector<GhostDef> ghosts;
+  std::vector<CoinDef> coins;
+  std::vector<QuestionBoxDef> questionBoxes;
+  std::vector<BallSpawnDef> balls;
+  std::vector<GoalDef> goals;
+
+  /// A game level: it has rules and a goal, and can be won.
+  bool isGame() const { return rules.present; }
 };
 
 /// Loads a level from a .toml file or from a folder holding level.toml. Throws engine::Error.

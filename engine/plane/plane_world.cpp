@@ -28,6 +28,31 @@ void PlaneWorld::addStaticRect(const Eigen::Vector2d& centre, const Eigen::Vecto
   impl_->bodies.push_back(body);
 }
 
+int PlaneWorld::addKinematicCircle(const Eigen::Vector2d& centre, double radius, int tag) {
+  b2BodyDef def;
+  def.type = b2_kinematicBody;
+  def.position.Set(float(centre.x()), float(centre.y()));
+  def.userData.pointer = static_cast<uintptr_t>(tag + 1);
+  b2Body* body = impl_->world.CreateBody(&def);
+  b2CircleShape circle;
+  circle.m_radius = float(radius);
+  b2FixtureDef fixture;
+  fixture.shape = &circle;
+  fixture.isSensor = true;  // it passes through the level; catching is a rule, not a collision
+  body->CreateFixture(&fixture);
+  impl_->bodies.push_back(body);
+  return static_cast<int>(impl_->bodies.size()) - 1;
+}
+
+void PlaneWorld::setVelocity(int body, const Eigen::Vector2d& v) {
+  impl_->bodies.at(static_cast<size_t>(body))->SetLinearVelocity(b2Vec2(float(v.x()), float(v.y())));
+}
+
+Eigen::Vector2d PlaneWorld::position(int body) const {
+  const b2Vec2 p = impl_->bodies.at(static_cast<size_t>(body))->GetPosition();
+  return Eigen::Vector2d(p.x, p.y);
+}
+
 RayHit PlaneWorld::rayCast(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const {
   struct Closest : b2RayCastCallback {
     RayHit best;

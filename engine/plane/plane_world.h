@@ -28,6 +28,15 @@ class PlaneWorld {
   /// Adds a static rectangle (centre, half sizes in metres, rotation in radians) carrying a caller's tag.
   void addStaticRect(const Eigen::Vector2d& centre, const Eigen::Vector2d& halfSize, double angle, int tag);
 
+  /// Adds a kinematic circle (moved only by its velocity, e.g. a ghost) at centre; returns a handle.
+  int addKinematicCircle(const Eigen::Vector2d& centre, double radius, int tag);
+
+  /// Sets a kinematic body's velocity [m/s] (it moves by it in step()).
+  void setVelocity(int body, const Eigen::Vector2d& velocity);
+
+  /// A body's current position.
+  Eigen::Vector2d position(int body) const;
+
   /// Closest hit along the segment from -> to.
   RayHit rayCast(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
 

@@ -111,3 +111,55 @@ TEST(PlaneWorld, ProximityQueryFindsOnlyNearbyShapes) {
   EXPECT_TRUE(plane.queryCircle({0.0, 0.0}, 1.4).empty());
   EXPECT_EQ(plane.queryCircle({6.0, 0.0}, 4.6), (std::vector<int>{7, 9}));
 }
+
+TEST(LevelLoader, MarioCourseHasEveryStageInOrder) {
+  const levels::Level m = levels::loadLevel(kSource + "/levels/mario");
+  ASSERT_TRUE(m.isGame());
+  ASSERT_EQ(m.ghosts.size(), 1u);
+  ASSERT_EQ(m.balls.size(), 1u);
+  ASSERT_EQ(m.goals.size(), 1u);
+  EXPECT_GE(m.coins.size(), 5u);
+  ASSERT_EQ(m.questionBoxes.size(), 2u);
+  EXPECT_TRUE(m.questionBoxes[1].gift);
+  // stages along +X: ghost, stairs (>= 4 steps of 0.10-0.15 m), tunnel, boxes, ball, goal
+  double stairsX = 1e9, tunnelX = 1e9, maxStep = 0;
+  for (const levels::BoxDef& b : m.boxes) {
+    if (b.name.rfind("stairs_up", 0) == 0) stairsX = std::min(stairsX, b.centre.x()), maxStep = std::max(maxStep, b.size.z());
+    if (b.name == "tunnel") tunnelX = b.centre.x();
+  }
+  EXPECT_LT(m.ghosts[0].appearX, stairsX);
+  EXPECT_NEAR(maxStep, 4 * 0.12, 1e-9);
+  EXPECT_LT(stairsX, tunnelX);
+  EXPECT_LT(tunnelX, m.questionBoxes[0].centre.x());
+  EXPECT_LT(m.questionBoxes[1].centre.x(), m.balls[0].position.x());
+  EXPECT_LT(m.balls[0].position.x(), m.goals[0].centre.x());
+  int seeThrough = 0;
+  for (const levels::BoxDef& b : m.boxes) seeThrough += b.seeThrough;
+  EXPECT_EQ(seeThrough, 3);
+}
+
+TEST(LevelLoader, GameLevelsNeedAGoalAndEntitiesNeedRules) {
+  const std::string noGoal = errorOf("name = \"a\"\n[rules]\nfalls = \"lose\"\n[[coin]]\ncentre = [1, 0, 1]\n");
+  EXPECT_NE(noGoal.find("x.toml:2: a level with [rules] needs a [[goal]]"), std::string::npos) << noGoal;
+  const std::string noRules = errorOf("name = \"a\"\n[[coin]]\ncentre = [1, 0, 1]\n");
+  EXPECT_NE(noRules.find("need a [rules] table"), std::string::npos) << noRules;
+}
+
+TEST(LevelLoader, UnknownEntityTypeIsNamedWithItsLine) {
+  const std::string e = errorOf("name = \"a\"\n\n[[mushroom]]\ncentre = [1, 0, 1]\n");
+  EXPECT_NE(e.find("x.toml:3: unknown key 'mushroom'"), std::string::npos) << e;
+  EXPECT_NE(e.find("entity types"), std::string::npos) << e;
+}
+
+TEST(LevelLoader, OverlappingAndNegativeEntitiesAreRejected) {
+  const std::string game = "name = \"a\"\n[rules]\n[[goal]]\ncentre = [9, 0, 0.5]\nsize = [1, 1, 1]\n";
+  const std::string overlap = errorOf(game + "[[box]]\nname = \"crate\"\ncentre = [2, 0, 1.5]\nsize = [1, 1, 1]\n"
+                                             "[[question_box]]\ncentre = [2.2, 0, 1.9]\n");
+  EXPECT_NE(overlap.find("x.toml:10: question box overlaps 'crate' (defined on line 6)"), std::string::npos) << overlap;
+  const std::string negative = errorOf(game + "[[question_box]]\ncentre = [2, 0, 1.9]\nsize = [0.4, -0.4, 0.4]\n");
+  EXPECT_NE(negative.find("x.toml:6: question box sizes must be positive"), std::string::npos) << negative;
+  const std::string badContent = errorOf(game + "[[question_box]]\ncentre = [2, 0, 1.9]\ncontent = \"star\"\n");
+  EXPECT_NE(badContent.find("x.toml:8: 'content' must be"), std::string::npos) << badContent;
+  const std::string ghost = errorOf(game + "[[ghost]]\nappear_x = 5\nvanish_x = 3\n");
+  EXPECT_NE(ghost.find("x.toml:6: 'vanish_x' must be beyond"), std::string::npos) << ghost;
+}

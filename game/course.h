@@ -1,0 +1,108 @@
+// course.h — the rules and entities of a game level (a level with [rules]): coins, question boxes and what
+// they release, ghosts, balls, goals, checkpoints, the time limit, score, and winning or losing. The Session
+// owns one and calls it once per tick after physics; it never moves the robot itself (a respawn is the
+// Session's, on the Course's word).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/core/hash.h"
+#include "engine/physics/physics_world.h"
+#include "engine/plane/plane_world.h"
+#include "engine/render/scene_snapshot.h"
+#include "levels/level.h"
+#include "robot/robot.h"
+
+namespace game {
+
+/// A sphere standing in for a part of the robot (collider centres), for touching coins and boxes.
+struct BodyPoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double radius = 0;
+  bool head = false, hand = false;  ///< can hit a question box
+};
+
+enum class Outcome { Playing, Won, Lost };
+
+/// Something that happened, for the summary and the log.
+struct CourseEvent {
+  int64_t tick = 0;
+  std::string what;
+};
+
+class Course {
+ public:
+  Course(const levels::Level& level, engine::PhysicsWorld& physics, engine::PlaneWorld& plane);
+
+  /// Advances the rules by one tick (after physics): ghosts move, coins and releases are collected, boxes are
+  /// hit, goals and the time limit are checked.
+  void update(int64_t tick, const robot::Sensors& sensors, const std::vector<BodyPoint>& body,
+              engine::PhysicsWorld& physics, engine::PlaneWorld& plane);
+
+  /// The robot fell at `tick`: under "respawn" the penalty is taken and true is returned (the Session puts the
+  /// robot back at respawnX()); under "lose" the level is lost and false is returned.
+  bool onFall(int64_t tick);
+  double respawnX() const { return checkpointX_; }
+
+  Outcome outcome() const { return outcome_; }
+  const std::string& outcomeReason() const { return reason_; }
+  int score() const { return score_; }
+  int coins() const { return coins_; }
+  int gifts() const { return gifts_; }
+  int falls() const { return falls_; }
+  /// Distance from the nearest awake ghost's edge to the pelvis [m]; negative when no ghost is chasing.
+  double ghostDistance() const { return ghostDistance_; }
+  /// Ball id of the level's first ball, -1 if none (the kick's target).
+  engine::BallId firstBall() const { return balls_.empty() ? -1 : balls_.front().id; }
+  const std::vector<CourseEvent>& events() const { return events_; }
+
+  /// Adds the course's moving and collectable things to a snapshot (static boxes are drawn by the Session).
+  void draw(const engine::PhysicsWorld& physics, const engine::PlaneWorld& plane, engine::SceneSnapshot* out) const;
+  /// Feeds everything that evolves into a state hash.
+  void hash(const engine::PhysicsWorld& physics, const engine::PlaneWorld& plane, engine::Hasher* h) const;
+
+ private:
+  struct Collectable {
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    double radius = 0.15;
+    bool gift = false, collected = false;
+    int64_t releasedTick = -1;  // released by a question box at this tick (-1: placed in the level)
+    Eigen::Vector3d from = Eigen::Vector3d::Zero();  // where a release starts
+  };
+  struct Box {
+    levels::QuestionBoxDef def;
+    bool used = false;
+  };
+  struct Ghost {
+    levels::GhostDef def;
+    int body = -1;        // PlaneWorld kinematic circle, once awake
+    bool awake = false, gone = false;
+    double speed = 0;
+  };
+  struct Ball {
+    engine::BallId id = -1;
+    double radius = 0.11;
+  };
+
+  void finish(int64_t tick, Outcome outcome, const std::string& reason);
+  void log(int64_t tick, const std::string& what) { events_.push_back({tick, what}); }
+
+  levels::RulesDef rules_;
+  double timeLimit_ = 0;
+  std::vector<Collectable> items_;
+  std::vector<Box> boxes_;
+  std::vector<Ghost> ghosts_;
+  std::vector<Ball> balls_;
+  std::vector<levels::GoalDef> goals_;
+  double checkpointX_ = 0;
+  Outcome outcome_ = Outcome::Playing;
+  std::string reason_;
+  int score_ = 0, coins_ = 0, gifts_ = 0, falls_ = 0;
+  double ghostDistance_ = -1;
+  std::vector<CourseEvent> events_;
+};
+
+}  // namespace game
