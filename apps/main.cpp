@@ -141,7 +141,9 @@ int cmdPlay(const PlayArgs& a) {
   for (const std::string* f : {&a.record, &a.summary, &a.out.videoPath}) makeParentDirectory(*f);
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   const game::SkillSet skills = apps::loadSkills(model);
-  if (a.autopilot) throw engine::Error("--autopilot: no autopilot yet (it arrives with the Mario level)");
+  if (a.autopilot && !level.isGame())
+    throw engine::Error(level.path + ": --autopilot plays game levels (a level with [rules] and a goal)");
+  if (a.autopilot && !a.keys.empty()) throw engine::Error("--autopilot and --keys exclude each other");
   if (!a.expect.empty() && a.expect != "alive" && a.expect != "win")
     throw engine::Error("--expect must be 'alive' or 'win', not '" + a.expect + "'");
   if (a.expect == "win" && !level.isGame())
@@ -150,12 +152,14 @@ int cmdPlay(const PlayArgs& a) {
   game::PlayOptions options;
   options.seed = a.seed;
   options.skills = &skills;
+  options.autopilot = a.autopilot;
   if (!a.keys.empty()) {
     const std::string path = resolveKeys(a.keys, level);
     options.events = engine::parseKeyScript(engine::readFile(path), path);
   }
   double seconds = a.seconds;
   if (seconds < 0) seconds = options.events.empty() ? 10.0 : double(options.events.back().tick) * engine::kTickSeconds + 2.0;
+  if (a.seconds < 0 && level.isGame()) seconds = level.timeLimit > 0 ? level.timeLimit + 0.5 : 600.0;  // until it ends
   if (!(seconds > 0) || seconds > 86400) throw engine::Error("--seconds must be in (0, 86400]");
   options.ticks = engine::secondsToTicks(seconds);
   if (!options.events.empty() && options.events.back().tick >= options.ticks)
@@ -180,7 +184,7 @@ int cmdPlay(const PlayArgs& a) {
     replay.seed = a.seed;
     replay.ticks = r.ticks;
     replay.hashEvery = options.hashEvery;
-    for (const engine::KeyEvent& e : options.events)
+    for (const engine::KeyEvent& e : r.keyEvents)  // the script's or the autopilot's, as applied
       if (e.tick < r.ticks) replay.events.push_back(e);
     replay.states = r.hashes;
     engine::saveReplay(a.record, replay);
@@ -268,7 +272,7 @@ int main(int argc, char** argv) {
   CLI::App* playCmd = app.add_subcommand("play", "Play a level headless and print a summary");
   playCmd->add_option("level", play.level, "Level folder (holding level.toml) or .toml file")->required();
   playCmd->add_option("--keys", play.keys, "Keyboard script (a path, or a file name inside the level folder)");
-  playCmd->add_flag("--autopilot", play.autopilot, "Let the autopilot play (not available yet)");
+  playCmd->add_flag("--autopilot", play.autopilot, "Let the autopilot play a game level from what the robot perceives (not with --keys)");
   playCmd->add_option("--seconds", play.seconds, "Simulated seconds (default: script end + 2 s, or 10 s)")
       ->check(CLI::Range(0.01, 86400.0));
   playCmd->add_option("--seed", play.seed, "Random seed (default 1)");

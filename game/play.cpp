@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "engine/input/input_timeline.h"
+#include "game/autopilot.h"
 
 namespace game {
 
@@ -15,8 +16,15 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
   size_t nextExpected = 0;
 
   if (options.frameEvery > 0 && options.onFrame) options.onFrame(session.snapshot(options.camera));
+  Autopilot autopilot;
   while (session.tick() < options.ticks) {
-    session.step(timeline.eventsAt(session.tick()));
+    std::vector<engine::KeyEvent> events = timeline.eventsAt(session.tick());
+    if (options.autopilot) {
+      const std::vector<engine::KeyEvent> own = autopilot.decide(session.tick(), senseCues(session));
+      events.insert(events.end(), own.begin(), own.end());
+    }
+    result.keyEvents.insert(result.keyEvents.end(), events.begin(), events.end());
+    session.step(events);
     const int64_t done = session.tick();  // ticks completed
 
     if (options.hashEvery > 0 && done % options.hashEvery == 0) {

@@ -25,6 +25,7 @@ struct PlayOptions {
   std::function<void(const engine::SceneSnapshot&)> onFrame;
   bool stopOnFall = false;                  ///< end the run at the first fall
   const SkillSet* skills = nullptr;         ///< learned skills, or none
+  bool autopilot = false;                   ///< the autopilot presses the keys (after any scripted events)
 };
 
 struct PlayResult {
@@ -42,6 +43,7 @@ struct PlayResult {
   std::string outcomeReason;
   int score = 0, coins = 0, gifts = 0;
   std::vector<CourseEvent> events;
+  std::vector<engine::KeyEvent> keyEvents;  ///< every key event applied (script and autopilot), for replays
 };
 
 /// Plays level with model for options.ticks ticks.

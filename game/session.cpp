@@ -35,9 +35,10 @@ Session::Session(const levels::Level& level, const robot::RobotModel& model, con
     box.rgba = b.seeThrough ? (b.rgba & 0xffffff00u) | 0x40u : b.rgba;
     registry_.add(registry_.create(), box);
     physics_.addStaticBox(box.centre, box.rotation, box.halfExtents, b.friction);
-    if (level.plane == levels::Plane2d::Side)
+    // a see-through wall runs along the course beside it: in the side plane it would cover everything
+    if (level.plane == levels::Plane2d::Side && !b.seeThrough)
       plane_.addStaticRect({b.centre.x(), b.centre.z()}, {0.5 * b.size.x(), 0.5 * b.size.z()}, 0.0, int(i));
-    else
+    else if (level.plane == levels::Plane2d::Top)
       plane_.addStaticRect({b.centre.x(), b.centre.y()}, {0.5 * b.size.x(), 0.5 * b.size.y()}, b.yaw, int(i));
   }
 

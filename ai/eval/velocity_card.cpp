@@ -49,7 +49,10 @@ struct Episode {
   engine::BallId ball = -1;
   engine::BallState ballState;
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
-  double bestKick = 0;  // ticks the right sole has been (and was at most) lifted in one go
+  double bestKick = 0;
+  int fallKind = -1;         // command kind active when it fell (0 forward/backward, 1 sideways, 2 turn, 3 zero)
+  bool fellAfterPush = false;  // within 1 s of a push
+  int lastPush = -1000;  // ticks the right sole has been (and was at most) lifted in one go
 };
 
 // what a batch does: walking episodes randomise friction, mass and pushes and resample commands; standing and
@@ -135,6 +138,8 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       if (std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||
           e.sensors.basePosition.z() < walk.termination.minHeight) {
         e.fallen = true;
+        e.fallKind = e.command.vx != 0 ? 0 : e.command.vy != 0 ? 1 : e.command.wz != 0 ? 2 : 3;
+        e.fellAfterPush = tick - e.lastPush <= 100;
         return;
       }
       if (mode != Mode::kStanding && tick - e.segmentStart > settle) {
@@ -187,6 +192,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         s.baseLinearVelocity += Eigen::Vector3d(std::cos(angle), std::sin(angle), 0) * speed;
         e.world->setState(e.robot->id(), s);
         e.nextPush += pushEvery;
+        e.lastPush = tick;
       }
       if (walking && tick % segment == 0 && tick < ticks) {
         sampleCommand(o, e);
@@ -317,6 +323,15 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
   for (int k = 0; k < 4; ++k)
     if (moves && kindCount[k] && o.mix[size_t(k)] < 1.0) r.figures.push_back({kinds[k], kindError[k] / double(kindCount[k]), "(reported)", true});
   r.figures.push_back({"mean time survived (of each episode)", 100.0 * survival, "(reported) %", true});
+  if (moves && upright < o.episodes) {
+    int byKind[4] = {0, 0, 0, 0}, afterPush = 0;
+    for (const Episode& e : walking)
+      if (e.fallen) ++byKind[e.fallKind], afterPush += e.fellAfterPush;
+    char name[128];
+    std::snprintf(name, sizeof name, "  falls: fwd/back %d, side %d, turn %d, zero %d; <1 s after a push %d", byKind[0],
+                  byKind[1], byKind[2], byKind[3], afterPush);
+    r.figures.push_back({name, double(o.episodes - upright), "(reported)", true});
+  }
   if (o.standEpisodes > 0) {
     const double d = standFalls ? 1e9 : drift;
     r.figures.push_back({"zero command: max drift over " + std::to_string(int(o.standSeconds)) + " s", d,
