@@ -95,6 +95,13 @@ std::string summaryText(const levels::Level& level, const game::PlayResult& r, c
                 r.finalSensors.basePosition.y(), t.distance);
   s << line;
   s << "state hash " << engine::toHex(r.finalHash) << " after " << r.ticks << " ticks\n";
+  for (const game::SwitchReport& w : r.switchReports) {
+    std::snprintf(line, sizeof line,
+                  "switch     %s->%s at %.2f s: forward speed %.2f -> %.2f m/s, peak acceleration %.1f m/s^2\n",
+                  w.event.from.c_str(), w.event.to.c_str(), double(w.event.tick) * engine::kTickSeconds, w.speedBefore,
+                  w.speedAfter, w.peakAcceleration);
+    s << line;
+  }
   for (const game::CourseEvent& e : r.events) {
     std::snprintf(line, sizeof line, "event      %7.2f s  %s\n", double(e.tick) * engine::kTickSeconds, e.what.c_str());
     s << line;
@@ -123,7 +130,7 @@ game::PlayResult runWithOutput(const levels::Level& level, const robot::RobotMod
 }
 
 struct PlayArgs {
-  std::string level, keys, record, expect, summary;
+  std::string level, keys, record, expect, summary, log;
   double seconds = -1;
   uint64_t seed = 1;
   bool autopilot = false;
@@ -138,7 +145,7 @@ void makeParentDirectory(const std::string& file) {
 
 int cmdPlay(const PlayArgs& a) {
   const levels::Level level = levels::loadLevel(a.level);
-  for (const std::string* f : {&a.record, &a.summary, &a.out.videoPath}) makeParentDirectory(*f);
+  for (const std::string* f : {&a.record, &a.summary, &a.log, &a.out.videoPath}) makeParentDirectory(*f);
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   const game::SkillSet skills = apps::loadSkills(model);
   if (a.autopilot && !level.isGame())
@@ -174,6 +181,15 @@ int cmdPlay(const PlayArgs& a) {
   const std::string summary = summaryText(level, r, outcome.c_str());
   std::fputs(summary.c_str(), stdout);
   if (!a.summary.empty()) engine::writeFileAtomic(a.summary, summary);
+  if (!a.log.empty()) {
+    std::string csv = "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s\n";
+    char row[160];
+    for (const game::ComSample& c : r.comLog) {
+      std::snprintf(row, sizeof row, "%.2f,%s,%.4f,%.4f,%.4f\n", c.t, c.skill.c_str(), c.x, c.z, c.vx);
+      csv += row;
+    }
+    engine::writeFileAtomic(a.log, csv);
+  }
 
   if (!a.record.empty()) {
     engine::Replay replay;
@@ -278,6 +294,7 @@ int main(int argc, char** argv) {
   playCmd->add_option("--seed", play.seed, "Random seed (default 1)");
   playCmd->add_option("--record", play.record, "Write a replay file");
   playCmd->add_option("--summary", play.summary, "Also write the summary to this file");
+  playCmd->add_option("--log", play.log, "Write the centre of mass at 50 Hz (time, skill, x, height, forward speed) to a CSV file");
   playCmd->add_option("--expect", play.expect, "Exit 1 unless this holds: alive (no fall) or win")
       ->check(CLI::IsMember({"alive", "win"}));
   addOutputOptions(playCmd, &play.out);

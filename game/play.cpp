@@ -1,9 +1,11 @@
 // play.cpp — the fixed-tick loop: one clock (the session's tick), events delivered on their tick.
 #include "game/play.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "engine/input/input_timeline.h"
+#include "engine/loop/clock.h"
 #include "game/autopilot.h"
 
 namespace game {
@@ -17,6 +19,7 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
 
   if (options.frameEvery > 0 && options.onFrame) options.onFrame(session.snapshot(options.camera));
   Autopilot autopilot;
+  std::vector<double> comX;  // per tick, for the switch reports
   while (session.tick() < options.ticks) {
     std::vector<engine::KeyEvent> events = timeline.eventsAt(session.tick());
     if (options.autopilot) {
@@ -26,6 +29,12 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     result.keyEvents.insert(result.keyEvents.end(), events.begin(), events.end());
     session.step(events);
     const int64_t done = session.tick();  // ticks completed
+    const Eigen::Vector3d com = session.sensors().centreOfMass;
+    comX.push_back(com.x());
+    if (done % 2 == 0) {
+      const double vx = comX.size() > 2 ? (comX.back() - comX[comX.size() - 3]) / (2 * engine::kTickSeconds) : 0.0;
+      result.comLog.push_back({double(done) * engine::kTickSeconds, com.x(), com.z(), vx, session.activeSkillName()});
+    }
 
     if (options.hashEvery > 0 && done % options.hashEvery == 0) {
       const engine::StateHash h{done, session.stateHash()};
@@ -57,6 +66,28 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     result.coins = c->coins();
     result.gifts = c->gifts();
     result.events = c->events();
+  }
+  // switch continuity: the forward speed of the centre of mass, smoothed over 0.1 s (10 ticks)
+  const int64_t n = int64_t(comX.size());
+  std::vector<double> speed(size_t(n), 0.0);
+  for (int64_t i = 10; i < n; ++i) speed[size_t(i)] = (comX[size_t(i)] - comX[size_t(i - 10)]) / (10 * engine::kTickSeconds);
+  auto mean = [&](int64_t a, int64_t b) {
+    a = std::clamp<int64_t>(a, 0, n), b = std::clamp<int64_t>(b, 0, n);
+    double s = 0;
+    for (int64_t i = a; i < b; ++i) s += speed[size_t(i)];
+    return b > a ? s / double(b - a) : 0.0;
+  };
+  const std::vector<SwitchEvent>& sw = result.telemetry.switches;
+  for (size_t k = 0; k < sw.size(); ++k) {
+    if (sw[k].from == "stand") continue;
+    SwitchReport r;
+    r.event = sw[k];
+    const int64_t t = sw[k].tick, next = k + 1 < sw.size() ? sw[k + 1].tick : n;
+    r.speedBefore = mean(t - 50, t);
+    r.speedAfter = mean(std::min(t + 200, next - 100), std::min(t + 300, next));
+    for (int64_t i = std::max<int64_t>(t - 50, 11); i < std::min(t + 300, n); ++i)
+      r.peakAcceleration = std::max(r.peakAcceleration, std::abs(speed[size_t(i)] - speed[size_t(i - 1)]) / engine::kTickSeconds);
+    result.switchReports.push_back(r);
   }
   result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -28,6 +28,20 @@ struct PlayOptions {
   bool autopilot = false;                   ///< the autopilot presses the keys (after any scripted events)
 };
 
+/// How the motion carried through one skill switch (forward = world +X, centre of mass, 0.1 s moving average).
+struct SwitchReport {
+  SwitchEvent event;
+  double speedBefore = 0;  ///< mean over the 0.5 s before the switch [m/s]
+  double speedAfter = 0;   ///< mean over 2-3 s after it (or up to the next switch) [m/s]
+  double peakAcceleration = 0;  ///< largest |d v / dt| of the smoothed speed from 0.5 s before to 3 s after [m/s^2]
+};
+
+/// The centre of mass every other tick (50 Hz), for the continuity log.
+struct ComSample {
+  double t = 0, x = 0, z = 0, vx = 0;
+  std::string skill;
+};
+
 struct PlayResult {
   int64_t ticks = 0;                        ///< ticks simulated
   bool fallen = false;
@@ -44,6 +58,8 @@ struct PlayResult {
   int score = 0, coins = 0, gifts = 0;
   std::vector<CourseEvent> events;
   std::vector<engine::KeyEvent> keyEvents;  ///< every key event applied (script and autopilot), for replays
+  std::vector<SwitchReport> switchReports;  ///< one per skill switch between two learned skills
+  std::vector<ComSample> comLog;            ///< 50 Hz centre-of-mass samples
 };
 
 /// Plays level with model for options.ticks ticks.
