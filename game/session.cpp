@@ -130,6 +130,10 @@ void Session::controlSystem() {
   command.vy = std::clamp(c.vy, std::min(range.vy.lo, 0.0), std::max(range.vy.hi, 0.0));
   command.wz = std::clamp(c.wz, std::min(range.wz.lo, 0.0), std::max(range.wz.hi, 0.0));
   command.amplitude = c.amplitude;
+  if (active_->def.ball.enabled && course_ && course_->firstBall() >= 0) {
+    // a ball skill sees the level's ball where training showed it its own (aux slots, heading frame)
+    robot::ballIntoCommand(sensors_, physics_.ballState(course_->firstBall()).position, &command);
+  }
   double s, co;
   robot::phaseSignal(phase_.tp, active_->def.prior.halfPeriodTicks, &s, &co);
   robot::Observation o;

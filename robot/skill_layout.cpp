@@ -1,6 +1,9 @@
 // skill_layout.cpp — writes the shared observation layout.
 #include "robot/skill_layout.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace robot {
 
 void buildObservation(const Sensors& s, const RobotModel& model, const std::array<float, kActionSize>& previousAction,
@@ -20,6 +23,13 @@ void buildObservation(const Sensors& s, const RobotModel& model, const std::arra
   for (int i = 0; i < kNumCommandSlots; ++i) o[size_t(kObsCommand + i)] = float(command[i]);
   o[size_t(kObsPhase)] = float(phaseSin);
   o[size_t(kObsPhase + 1)] = float(phaseCos);
+}
+
+void ballIntoCommand(const Sensors& sensors, const Eigen::Vector3d& ball, SkillCommand* command) {
+  const Eigen::Vector2d d = ball.head<2>() - sensors.basePosition.head<2>();
+  const double c = std::cos(sensors.yaw), s = std::sin(sensors.yaw);
+  command->aux0 = std::clamp(c * d.x() + s * d.y(), -5.0, 5.0);
+  command->aux1 = std::clamp(-s * d.x() + c * d.y(), -5.0, 5.0);
 }
 
 }  // namespace robot

@@ -48,6 +48,10 @@ struct SkillCommand {
   double aux0 = 0, aux1 = 0;      ///< skill-specific
 };
 
+/// Puts a ball's position relative to the pelvis, in the heading frame, into command.aux0 (forward) and
+/// command.aux1 (left) [m], clamped to +-5 m: how ball skills (kick) see their ball.
+void ballIntoCommand(const Sensors& sensors, const Eigen::Vector3d& ball, SkillCommand* command);
+
 /// Fills an observation from sensors, the model's default pose, the previous action, command and phase.
 void buildObservation(const Sensors& s, const RobotModel& model, const std::array<float, kActionSize>& previousAction,
                       const SkillCommand& command, double phaseSin, double phaseCos, Observation* out);

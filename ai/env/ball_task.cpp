@@ -17,11 +17,4 @@ engine::BallId placeBall(engine::PhysicsWorld& world, const robot::BallTaskDef& 
   return world.addBall(def, centre);
 }
 
-void ballIntoCommand(const robot::Sensors& sensors, const engine::BallState& ball, robot::SkillCommand* command) {
-  const Eigen::Vector2d d = ball.position.head<2>() - sensors.basePosition.head<2>();
-  const double c = std::cos(sensors.yaw), s = std::sin(sensors.yaw);
-  command->aux0 = std::clamp(c * d.x() + s * d.y(), -5.0, 5.0);
-  command->aux1 = std::clamp(-s * d.x() + c * d.y(), -5.0, 5.0);
-}
-
 }  // namespace ai

@@ -16,8 +16,9 @@ namespace ai {
 engine::BallId placeBall(engine::PhysicsWorld& world, const robot::BallTaskDef& task, const robot::Sensors& start,
                          std::mt19937_64& rng, Eigen::Vector2d* targetDirection);
 
-/// Writes the ball's position relative to the pelvis in the heading frame into command.aux0 (forward) and
-/// command.aux1 (left) [m], clamped to +-5 m.
-void ballIntoCommand(const robot::Sensors& sensors, const engine::BallState& ball, robot::SkillCommand* command);
+/// robot::ballIntoCommand for a ball state.
+inline void ballIntoCommand(const robot::Sensors& sensors, const engine::BallState& ball, robot::SkillCommand* command) {
+  robot::ballIntoCommand(sensors, ball.position, command);
+}
 
 }  // namespace ai

@@ -7,6 +7,13 @@
 #include <cmath>
 #include <random>
 
+namespace {
+// The build enables OpenMP so that the PPO update can thread Eigen's matrix products (ai::Trainer raises the
+// thread count around it). Everywhere else products stay on the calling thread: the same numbers whatever the
+// machine, and no threads nested inside the rollout workers.
+const bool kEigenSingleThreaded = (Eigen::setNbThreads(1), true);
+}  // namespace
+
 namespace ai {
 
 size_t MlpWeights::parameterCount() const {
