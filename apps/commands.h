@@ -33,6 +33,7 @@ struct TrainOptions {
   int evalEvery = 10;     ///< iterations between report-card evaluations (0 = never)
   double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
   std::string initFrom;   ///< start from this policy file (PolicyState) instead of fresh weights or the parent
+  double learningRate = std::nan("");  ///< override of the [ppo] initial learning rate (fine-tuning)
   bool exportOnly = false;
   std::string exportFrom = "best";  ///< --export-only source: best (best.bin) or last (checkpoint.bin)
   std::string modelsDir;  ///< where the ONNX and policy files go (default: the tree file's folder)

@@ -70,6 +70,10 @@ int runTrain(const TrainOptions& o) {
   const Loaded l = loadSkill(o.skill);
   const robot::SkillDef& skill = *l.skill;
   ai::PpoConfig config = ai::parsePpoConfig(engine::readFile(l.tree.path), l.tree.path, "ppo");
+  if (!std::isnan(o.learningRate)) {
+    if (!(o.learningRate > 0 && o.learningRate < 1)) throw engine::Error("--learning-rate must be in (0, 1)");
+    config.learningRate = o.learningRate;  // decays linearly to the config's final rate, as usual
+  }
   const int64_t steps = o.steps > 0 ? o.steps : skill.trainingSteps;
   const int envs = o.envs > 0 ? o.envs : skill.trainingEnvs;
   const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
@@ -144,6 +148,10 @@ int runTrain(const TrainOptions& o) {
 
 void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, const ai::PolicyState& policy,
                  const std::string& onnxPath, const std::string& policyPath, int64_t envSteps, uint64_t seed) {
+  for (const std::string& path : {onnxPath, policyPath}) {
+    const std::string dir = std::filesystem::path(path).parent_path().string();
+    if (!dir.empty()) engine::makeDirectories(dir);
+  }
   ai::PolicyExport e;
   e.actor = policy.actor;
   e.obsMean = policy.normalizer.mean();

@@ -1,6 +1,8 @@
 // normalizer.cpp — running mean/variance (parallel batch update in double) and clamped normalisation.
 #include "ai/nn/normalizer.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -58,6 +60,16 @@ void RunningNormalizer::load(ByteReader* in) {
   var_ = in->vectorD();
   if (mean_.size() != var_.size()) in->fail("normaliser mean and variance differ in size");
   if (!(count_ > 0) || !(clip_ > 0)) in->fail("normaliser count and clip must be positive");
+  refreshCache();
+}
+
+void RunningNormalizer::adaptForBranch(double maxCount) {
+  for (int i = 0; i < int(var_.size()); ++i)
+    if (var_[i] < 1e-6) {
+      mean_[i] = 0.0;
+      var_[i] = 1.0;
+    }
+  count_ = std::min(count_, maxCount);
   refreshCache();
 }
 

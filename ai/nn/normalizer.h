@@ -39,6 +39,12 @@ class RunningNormalizer {
   /// Clamp range of normalised values.
   float clip() const { return clip_; }
 
+  /// Prepares a parent's statistics for a branch: a feature the parent never saw vary (variance below 1e-6,
+  /// e.g. a command slot it does not use) gets mean 0 and variance 1, so that the branch's values reach the
+  /// network at their own scale instead of divided by ~1e-4 and clipped; the count is capped at maxCount so
+  /// that the branch's own observations take over the statistics within a few iterations.
+  void adaptForBranch(double maxCount);
+
   /// Appends the statistics.
   void save(ByteWriter* out) const;
   /// Reads what save wrote. Throws engine::Error on malformed data.

@@ -81,6 +81,7 @@ void Trainer::initialiseFrom(const PolicyState& parent, float reinflateLogStd) {
                 ", " + std::to_string(parent.actionSize()) + ") do not match the environment's (" +
                 std::to_string(env_.observationSize()) + ", " + std::to_string(env_.actionSize()) + ")");
   policy_ = parent;
+  policy_.normalizer.adaptForBranch(kBranchNormalizerCount);
   if (!std::isnan(reinflateLogStd)) policy_.logStd = policy_.logStd.cwiseMax(reinflateLogStd);
   updater_.optimizer().reset();
   iteration_ = 0;

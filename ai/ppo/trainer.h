@@ -61,6 +61,9 @@ class Trainer {
   /// on an invalid config or options.
   Trainer(VecEnv& env, const PpoConfig& config, TrainerOptions options);
 
+  /// The observation normaliser's count after a branch initialisation (5 iterations of 20,480 samples).
+  static constexpr double kBranchNormalizerCount = 1e5;
+
   /// Branch initialisation: copies actor, critic, normaliser and log-std from parent (shapes must match the
   /// env and config); optimiser state, schedules and step counter start fresh. reinflateLogStd: if not
   /// NaN, each log-std entry becomes max(entry, reinflateLogStd) to restore exploration. Call before run();

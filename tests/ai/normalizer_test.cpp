@@ -51,3 +51,24 @@ TEST(RunningNormalizer, NormalizesAndClipsToFive) {
 
 }  // namespace
 }  // namespace ai
+
+TEST(RunningNormalizer, BranchAdaptationNeutralisesFeaturesTheParentNeverSawVary) {
+  ai::RunningNormalizer n(3);
+  Eigen::MatrixXf batch(3, 4);
+  batch << 1, 2, 3, 4,   // varies
+      0, 0, 0, 0,        // a command slot the parent never used
+      5, 5, 5, 5;        // constant but not zero
+  for (int i = 0; i < 1000; ++i) n.update(batch);
+  EXPECT_GT(n.count(), 3999.0);
+  n.adaptForBranch(100.0);
+  EXPECT_DOUBLE_EQ(n.count(), 100.0);
+  EXPECT_NEAR(n.mean()[0], 2.5, 1e-6);     // kept
+  EXPECT_NEAR(n.variance()[0], 1.25, 1e-6);
+  EXPECT_EQ(n.mean()[1], 0.0f);            // neutral: values pass at their own scale
+  EXPECT_EQ(n.variance()[1], 1.0);
+  EXPECT_EQ(n.variance()[2], 1.0);
+  Eigen::MatrixXf x(3, 1), out;
+  x << 2.5f, 0.7f, 5.0f;
+  n.normalize(x, &out);
+  EXPECT_NEAR(out(1, 0), 0.7f, 1e-4);  // not 0.7 / 1e-4, clipped to 5
+}
