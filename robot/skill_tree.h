@@ -44,6 +44,8 @@ struct Range {
 struct CommandDef {
   Range vx, vy, wz;              ///< sampling ranges [m/s, m/s, rad/s]
   Range amplitude;               ///< sampling range of the amplitude command (0..1), drawn with every command
+  double amplitudeRate = 0;      ///< the amplitude moves toward each new draw at this rate [1/s] (0 = at once);
+                                 ///< 1.0 is the R / F keys' rate
   Range pelvisHeight{0.78, 0.78};  ///< pelvis height target at amplitude 0 (lo) and 1 (hi) [m], for height_track
   double zeroProbability = 0.2;  ///< chance that a sampled command is all zero
   double resampleSeconds = 5.0;  ///< a new command every so often

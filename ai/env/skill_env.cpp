@@ -40,6 +40,7 @@ struct SkillEnv::Env {
   uint8_t terminated = 0, truncated = 0;
   float finishedReturn = 0;
   int finishedLength = 0;
+  double amplitudeTarget = 0;  // where a ramped amplitude command is heading
   int lesson = 0, finishedLesson = 0;  // the curriculum lesson this episode's terrain was built for
   engine::BallId ball = -1;             // the kick's ball (-1: none)
   engine::BallState ballState;
@@ -75,6 +76,7 @@ double SkillEnv::physicsSeconds() const {
 // commands follow the keyboard's interlock: one of vx, vy, wz non-zero, or all zero
 void SkillEnv::sampleCommand(Env& e) {
   const robot::CommandDef& c = skill_.commands;
+  const double amplitude = e.command.amplitude;  // a ramped amplitude continues from where it is
   e.command = robot::SkillCommand{};
   const double pick = unit(e.rng);
   if (pick >= c.zeroProbability) {
@@ -87,7 +89,10 @@ void SkillEnv::sampleCommand(Env& e) {
     else if (which < wx + wy) e.command.vy = uniform(e.rng, c.vy);
     else if (ww > 0) e.command.wz = uniform(e.rng, c.wz);
   }
-  if (c.amplitude.hi > 0) e.command.amplitude = uniform(e.rng, c.amplitude);
+  if (c.amplitude.hi > 0) {
+    e.amplitudeTarget = uniform(e.rng, c.amplitude);
+    e.command.amplitude = c.amplitudeRate > 0 ? amplitude : e.amplitudeTarget;
+  }
   e.nextCommandTick = e.tick + int(std::lround(c.resampleSeconds / engine::kTickSeconds));
 }
 
@@ -119,6 +124,7 @@ void SkillEnv::resetEnv(Env& e) {
   e.action.fill(0.0f);
   e.previousAction.fill(0.0f);
   e.episodeReturn = 0;
+  e.command = robot::SkillCommand{};  // every episode starts at amplitude 0
   sampleCommand(e);
   if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
   const double pushEvery = r.pushEverySeconds;
@@ -157,6 +163,11 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     e.previousAction = e.action;
     robot::filterAction(skill_, actions.col(i).data(), &e.action);
 
+    // the amplitude command ramps like the R / F keys when the skill says so
+    if (skill_.commands.amplitudeRate > 0) {
+      const double step = skill_.commands.amplitudeRate * engine::kTickSeconds;
+      e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
+    }
     // control: targets from action + prior, then the physics substeps with PD every substep
     e.phase.advance(skill_.prior.halfPeriodTicks);
     robot::PdCommand pd;

@@ -39,6 +39,7 @@ struct Episode {
   int kindCount[4] = {0, 0, 0, 0};
   Eigen::Vector3d velocitySum = Eigen::Vector3d::Zero();  // heading-frame vx, vy and wz after the settle time
   double heightError = 0;  // sum of |h - h_target(amplitude)| after the settle time
+  double amplitudeTarget = 0, amplitudeRate = 0;  // the amplitude ramps as in training (the skill's rate)
   int liftRun = 0, longestLift = 0;
   double maxX = -1e9;  // furthest pelvis x (stairs)
   // jumps: the flight in progress, and the best run of qualifying jumps in a row
@@ -62,13 +63,17 @@ enum class Mode { kWalking, kStanding, kSweep };
 double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
 
 void sampleCommand(const robot::CardDef& card, Episode& e) {
+  const double amplitude = e.command.amplitude;
   e.command = robot::SkillCommand{};
   const double kind = unit(e.rng);
   const std::array<double, 4>& m = card.mix;
   if (kind < m[0]) e.command.vx = uniform(e.rng, card.vx);
   else if (kind < m[0] + m[1]) e.command.vy = uniform(e.rng, card.vy);
   else if (kind < m[0] + m[1] + m[2]) e.command.wz = uniform(e.rng, card.wz);
-  if (card.amplitude.hi > 0) e.command.amplitude = uniform(e.rng, card.amplitude);
+  if (card.amplitude.hi > 0) {
+    e.amplitudeTarget = uniform(e.rng, card.amplitude);
+    e.command.amplitude = e.amplitudeRate > 0 ? amplitude : e.amplitudeTarget;
+  }
 }
 
 // runs a batch of episodes of `ticks` ticks; standing episodes keep a zero command and no pushes
@@ -102,6 +107,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
     e.startHeight = e.sensors.basePosition.z();
     e.pushes = walking && o.pushes && pushEvery > 0;
     e.nextPush = pushEvery;
+    e.amplitudeRate = walk.commands.amplitudeRate;
     if (walking) sampleCommand(o, e);
     if (o.kind == robot::CardDef::Kind::Kick && walk.ball.enabled) {
       e.ball = placeBall(*e.world, walk.ball, e.sensors, e.rng, &e.kickDirection);
@@ -123,6 +129,10 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
     pool.parallelFor(n, [&](int i) {
       Episode& e = eps[size_t(i)];
       if (e.fallen) return;
+      if (e.amplitudeRate > 0) {
+        const double step = e.amplitudeRate * engine::kTickSeconds;
+        e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
+      }
       robot::filterAction(walk, act.col(i).data(), &e.action);
       e.phase.advance(walk.prior.halfPeriodTicks);
       robot::PdCommand pd;

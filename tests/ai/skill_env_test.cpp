@@ -128,3 +128,23 @@ TEST(Curriculum, NoLessonChangeBelowTheBar) {
   for (int s = 0; s < 100; ++s) env.step(zero, &r);
   EXPECT_EQ(env.curriculumLesson(), 0);
 }
+
+TEST(SkillEnv, RampedAmplitudeMovesAtMostItsRatePerTick) {
+  const robot::SkillDef& oneLeg = *fixture().tree.find("one_leg");
+  ASSERT_DOUBLE_EQ(oneLeg.commands.amplitudeRate, 1.0);  // the R / F keys' rate: 0.01 per tick
+  ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, {2, 1, false});
+  Eigen::MatrixXf obs;
+  env.reset(3, &obs);
+  const int slot = robot::kObsCommand + 3;  // vx, vy, wz, amplitude
+  EXPECT_EQ(obs(slot, 0), 0.0f);             // every episode starts at amplitude 0
+  ai::StepResult r;
+  float previous = 0, highest = 0;
+  for (int s = 0; s < 60; ++s) {
+    env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 2), &r);
+    const float a = r.observations(slot, 0);
+    EXPECT_LE(std::abs(a - previous), 0.01f + 1e-6f);
+    previous = a;
+    highest = std::max(highest, a);
+  }
+  EXPECT_GT(highest, 0.0f);
+}
