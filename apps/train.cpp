@@ -140,7 +140,7 @@ int runTrain(const TrainOptions& o) {
   ai::PolicyState chosen = trainer.policy();
   const std::string best = runDir + "/best.bin";
   if (std::filesystem::exists(best)) chosen = ai::loadPolicyState(best, &info);
-  exportSkill(l.model, skill, chosen, onnxPath, policyPath, trainer.envSteps(), o.seed);
+  exportSkill(l.model, skill, chosen, onnxPath, policyPath, std::filesystem::exists(best) ? info.envSteps : trainer.envSteps(), o.seed);
   std::printf("exported %s and %s (%s policy)\n", onnxPath.c_str(), policyPath.c_str(),
               std::filesystem::exists(best) ? "best-by-evaluation" : "final");
   return 0;
