@@ -20,6 +20,7 @@
 #include "game/play.h"
 #include "levels/level.h"
 #include "robot/robot_model.h"
+#include "robot/skill_tree.h"
 
 namespace {
 
@@ -283,6 +284,10 @@ int main(int argc, char** argv) {
   CLI::App app{"treelearn: a Unitree G1 humanoid in Bullet that learns a tree of skills and plays levels with them.\n"
                "Run 'treelearn <command> --help' for a command's options."};
   app.require_subcommand(1);
+  std::string treeFile;
+  app.add_option("--tree", treeFile, "Skill tree file for train, eval, tree and play (default assets/skills/tree.toml); "
+                                     "give it before the command")
+      ->check(CLI::ExistingFile);
 
   PlayArgs play;
   CLI::App* playCmd = app.add_subcommand("play", "Play a level headless and print a summary");
@@ -346,6 +351,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : kExitBadInput;
   }
   try {
+    robot::setSkillTreePath(treeFile);
     if (*playCmd) return cmdPlay(play);
     if (*replayCmd) return cmdReplay(replay);
     if (*benchCmd) return apps::runBench(bench);

@@ -141,9 +141,9 @@ void Session::controlSystem() {
   observation_ = Eigen::Map<const Eigen::VectorXf>(o.data(), robot::kObservationSize);
   active_->policy(observation_, &policyOutput_);
   robot::filterAction(active_->def, policyOutput_.data(), &action_);
-  phase_.advance(active_->def.prior.halfPeriodTicks);
+  phase_.advance(active_->def.prior, command);
   robot::PdCommand pd;
-  robot::skillPdCommand(model_, active_->def, action_, phase_.tp, command, &pd);
+  robot::skillPdCommand(model_, active_->def, action_, phase_, command, &pd);
   robot_->setCommand(pd);
 }
 

@@ -35,8 +35,17 @@ void filterAction(const SkillDef& skill, const float* policyOutput, std::array<f
 
 bool commandIsZero(const SkillCommand& c) { return c.vx == 0.0 && c.vy == 0.0 && c.wz == 0.0; }
 
-void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action, int tp,
-                    const SkillCommand& command, PdCommand* out) {
+void PhaseClock::advance(const PriorDef& prior, const SkillCommand& command) {
+  advance(prior.halfPeriodTicks);
+  const bool stepping = prior.kind == PriorDef::Kind::Phase && !(prior.standStill && commandIsZero(command));
+  const double target = stepping ? 1.0 : 0.0;
+  if (prior.standRampTicks <= 0) gait = target;
+  else gait += std::clamp(target - gait, -1.0 / prior.standRampTicks, 1.0 / prior.standRampTicks);
+}
+
+void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action,
+                    const PhaseClock& phase, const SkillCommand& command, PdCommand* out) {
+  const int tp = phase.tp;
   for (size_t j = 0; j < size_t(kNumJoints); ++j) {
     const double a = std::clamp(double(action[j]), -kActionClip, kActionClip);
     out->target[j] = model.joints[j].defaultPosition + skill.actionScale[j] * a;
@@ -46,7 +55,10 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
   if (skill.prior.kind == PriorDef::Kind::Phase) {
     double u1, u2;
     phaseActivation(tp, skill.prior.halfPeriodTicks, &u1, &u2);
-    const double dh = skill.prior.standStill && commandIsZero(command) ? 0.0 : skill.prior.dh;
+    const double dh = !skill.prior.standStill           ? skill.prior.dh
+                      : skill.prior.standRampTicks > 0 ? skill.prior.dh * phase.gait
+                      : commandIsZero(command)         ? 0.0
+                                                       : skill.prior.dh;
     const double left = dh * u1 + skill.prior.d0, right = dh * u2 + skill.prior.d0;
     // hip pitch forward (negative), knee bends twice as much, ankle keeps the foot level
     out->target[kLeftHipPitch] -= left;
@@ -65,8 +77,12 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
     out->target[kLeftShoulderPitch] -= arms;
     out->target[kRightShoulderPitch] += arms;
   }
-  if (skill.prior.kind == PriorDef::Kind::Pose)
-    for (size_t j = 0; j < size_t(kNumJoints); ++j) out->target[j] += command.amplitude * skill.prior.poseOffset[j];
+  if (skill.prior.kind == PriorDef::Kind::Pose) {
+    double first, late;
+    poseStages(skill.prior, command.amplitude, &first, &late);
+    for (size_t j = 0; j < size_t(kNumJoints); ++j)
+      out->target[j] += first * skill.prior.poseOffset[j] + late * skill.prior.lateOffset[j];
+  }
   if (skill.prior.kind == PriorDef::Kind::Kick) {
     const double p = double(tp) / (2.0 * skill.prior.halfPeriodTicks);  // 0..1 through the kick cycle
     const double lift = p < 0.35 ? 0.5 * (1.0 - std::cos(M_PI * p / 0.35)) : p < 0.8 ? 1.0 : 0.5 * (1.0 + std::cos(M_PI * (p - 0.8) / 0.2));

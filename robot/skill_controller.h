@@ -10,11 +10,16 @@
 
 namespace robot {
 
-/// The gait counter tp of the phase prior: counts control ticks 1..2 T1, then wraps.
+/// The gait counter tp of the phase prior (counts control ticks 1..2 T1, then wraps) and the share of the
+/// stepping amplitude in use (gait, 0..1), which fades with the skill's stand ramp.
 struct PhaseClock {
   int tp = 0;
-  /// Advances one tick.
+  double gait = 0.0;
+  /// Advances the counter one tick.
   void advance(int halfPeriodTicks) { tp = tp >= 2 * halfPeriodTicks ? 1 : tp + 1; }
+  /// Advances the counter one tick and moves gait toward 1 (stepping) or 0 (a phase prior that stands still at
+  /// a zero command, or a skill without a phase prior) by 1 / standRampTicks (at once when that is 0).
+  void advance(const PriorDef& prior, const SkillCommand& command);
 };
 
 /// Left/right activation u1, u2 in [0, 1] of the cosine phase prior at counter tp.
@@ -30,8 +35,10 @@ bool commandIsZero(const SkillCommand& c);
 /// skill's filter (the lab's agent smooths its 100 Hz actions the same way). `applied` holds last tick's value.
 void filterAction(const SkillDef& skill, const float* policyOutput, std::array<float, kActionSize>* applied);
 
-/// PD command for this tick: target = default + scale * clip(action) + prior; gains from the skill.
+/// PD command for this tick: target = default + scale * clip(action) + prior; gains from the skill. A phase
+/// prior with standStill steps with dh x phase.gait when the skill has a stand ramp, else with dh or 0 (zero
+/// command).
 void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action,
-                    int tp, const SkillCommand& command, PdCommand* out);
+                    const PhaseClock& phase, const SkillCommand& command, PdCommand* out);
 
 }  // namespace robot

@@ -1,6 +1,7 @@
 // skill_tree.cpp — strict TOML loader for the skill tree.
 #include "robot/skill_tree.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -154,7 +155,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
-      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stride", "arm_swing", "offset", "crouch", "swing"}, where + ".prior");
+      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late"}, where + ".prior");
       const std::string type = p->get("type") && p->get("type")->value<std::string>() ? *p->get("type")->value<std::string>() : "";
       if (type == "phase") s.prior.kind = PriorDef::Kind::Phase;
       else if (type == "pose") s.prior.kind = PriorDef::Kind::Pose;
@@ -174,6 +175,13 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         if (!swing->as_table()) throw Error(located(path, r.line(*swing), where + ".prior.swing must be a table of joint groups"));
         r.groups(*swing->as_table(), where + ".prior.swing", model, &s.prior.swingOffset, nullptr, -3, 3);
       }
+      if (const toml::node* late = p->get("late")) {
+        if (s.prior.kind != PriorDef::Kind::Pose)
+          throw Error(located(path, r.line(*late), where + ".prior.late is for \"pose\" priors only"));
+        if (!late->as_table()) throw Error(located(path, r.line(*late), where + ".prior.late must be a table of joint groups"));
+        r.groups(*late->as_table(), where + ".prior.late", model, &s.prior.lateOffset, nullptr, -3, 3);
+        s.prior.hasLate = true;
+      }
       s.prior.crouch = r.number(*p, "crouch", 0, 0, 1, where + ".prior");
       if (offset) {
         if (!offset->as_table()) throw Error(located(path, r.line(*offset), where + ".prior.offset must be a table of joint groups"));
@@ -185,6 +193,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.prior.stride = r.number(*p, "stride", 0, 0, 1, where + ".prior");
       s.prior.armSwing = r.number(*p, "arm_swing", 0, 0, 2, where + ".prior");
       if (const toml::node* ss = p->get("stand_still")) s.prior.standStill = ss->value<bool>().value_or(true);
+      s.prior.standRampTicks = int(std::lround(r.number(*p, "stand_ramp_s", 0, 0, 10, where + ".prior") / 0.01));
     }
     Given& g = given[s.name];
     if (const toml::table* gt = r.table(*t, "gains", false, where)) {
@@ -202,7 +211,8 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     g.termination = t->get("termination") != nullptr;
     g.randomisation = t->get("randomisation") != nullptr;
     if (const toml::table* c = r.table(*t, "commands", false, where)) {
-      r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "pelvis_height", "zero_probability", "resample_s"},
+      r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "pelvis_height", "zero_probability", "resample_s",
+                       "ramp"},
                  where + ".commands");
       s.commands.amplitude = r.range(*c, "amplitude", {}, 0, 1, where + ".commands");
       s.commands.amplitudeRate = r.number(*c, "amplitude_rate", 0, 0, 100, where + ".commands");
@@ -217,6 +227,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.commands.wz = r.range(*c, "wz", {}, -5, 5, where + ".commands");
       s.commands.zeroProbability = r.number(*c, "zero_probability", 0.2, 0, 1, where + ".commands");
       s.commands.resampleSeconds = r.number(*c, "resample_s", 5, 0.1, 1000, where + ".commands");
+      if (const toml::node* rp = c->get("ramp")) {
+        const std::optional<bool> b = rp->is_boolean() ? rp->value<bool>() : std::nullopt;
+        if (!b) throw Error(located(path, r.line(*rp), where + ".commands.ramp must be true or false"));
+        s.commands.ramp = *b;
+      }
     }
     if (const toml::table* w = r.table(*t, "rewards", true, where))
       for (auto&& [rk, rv] : *w) {
@@ -281,7 +296,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       r.onlyKeys(*c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
                       "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
                       "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
-                      "kick_speed", "kick_angle_deg"}, w);
+                      "kick_speed", "kick_angle_deg", "ramp"}, w);
       const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
       if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick")
         throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\" or \"kick\""));
@@ -318,6 +333,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
           sum += d.mix[i];
         }
         if (std::abs(sum - 1.0) > 1e-6) throw Error(located(path, r.line(*m), w + ".mix must add up to 1"));
+      }
+      if (const toml::node* rp = c->get("ramp")) {
+        const std::optional<bool> b = rp->is_boolean() ? rp->value<bool>() : std::nullopt;
+        if (!b) throw Error(located(path, r.line(*rp), w + ".ramp must be true or false"));
+        d.ramp = *b;
       }
       if (const toml::node* p2 = c->get("pushes")) {
         auto b = p2->value<bool>();
@@ -372,6 +392,27 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
   return tree;
 }
 
-std::string defaultSkillTreePath() { return engine::projectFile("assets/skills/tree.toml"); }
+void poseStages(const PriorDef& prior, double amplitude, double* first, double* late) {
+  if (!prior.hasLate) {
+    *first = amplitude;
+    *late = 0.0;
+    return;
+  }
+  *first = std::min(1.0, 2.0 * amplitude);
+  *late = std::clamp(2.0 * amplitude - 1.0, 0.0, 1.0);
+}
+
+namespace {
+std::string& treePathOverride() {
+  static std::string path;
+  return path;
+}
+}  // namespace
+
+std::string defaultSkillTreePath() {
+  return treePathOverride().empty() ? engine::projectFile("assets/skills/tree.toml") : treePathOverride();
+}
+
+void setSkillTreePath(const std::string& path) { treePathOverride() = path; }
 
 }  // namespace robot

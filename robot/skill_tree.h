@@ -23,10 +23,18 @@ struct PriorDef {
   /// Kick: a 2 T1-tick cycle that lifts into poseOffset over its first 35 % (cosine), adds swingOffset as a
   /// cosine bump over 40-60 % (the kick), holds the lift and lowers the leg over the last 20 %.
   JointArray swingOffset{};
+  /// Pose with a second stage (hasLate): offset x min(1, 2 a) + lateOffset x max(0, 2 a - 1) for amplitude a,
+  /// so that the first half of the amplitude moves into the offset pose (e.g. the weight over one foot) and the
+  /// second half adds the late pose (e.g. lifts the other foot). Without one: offset x a.
+  JointArray lateOffset{};
+  bool hasLate = false;
   int halfPeriodTicks = 40;  ///< T1: ticks per leg phase (gait period = 2 T1 ticks of 0.01 s)
   double dh = 0.0;           ///< stepping amplitude [rad]: hip -= A, knee += 2A, ankle -= A with A = dh u + d0
   double d0 = 0.0;           ///< base offset [rad] added to A
   bool standStill = true;    ///< dh = 0 while the command is zero (the lab's walk stands still)
+  /// Ticks over which the stepping amplitude fades out when the command becomes zero and back in when it stops
+  /// being zero (PhaseClock::gait); 0 = at once, as in the lab's agent.
+  int standRampTicks = 0;
   /// Hip swing per forward command [rad per m/s]: the left hip pitch gets + stride vx cos(pi tp / T1) (the
   /// right one the opposite, ankles compensate so the feet stay level): backward at lift-off, forward at
   /// touch-down, so a leg's stance sweeps it back at about the commanded speed. 0 = stepping in place.
@@ -35,6 +43,9 @@ struct PriorDef {
   /// own leg's hip (left shoulder - armSwing vx cos(pi tp / T1)), which cancels part of the legs' yaw torque.
   double armSwing = 0.0;
 };
+
+/// The two stage weights of a pose prior at amplitude a: first (offset) and late (lateOffset); see PriorDef.
+void poseStages(const PriorDef& prior, double amplitude, double* first, double* late);
 
 /// A [lo, hi] range.
 struct Range {
@@ -48,6 +59,9 @@ struct CommandDef {
                                  ///< 1.0 is the R / F keys' rate
   Range pelvisHeight{0.78, 0.78};  ///< pelvis height target at amplitude 0 (lo) and 1 (hi) [m], for height_track
   double zeroProbability = 0.2;  ///< chance that a sampled command is all zero
+  /// true: vx / vy / wz reach each new draw at the keyboard's rates with its one-axis interlock
+  /// (engine::rampVelocityCommand), as they do in play; false: they jump to it
+  bool ramp = false;
   double resampleSeconds = 5.0;  ///< a new command every so often
 };
 
@@ -105,6 +119,7 @@ struct CardDef {
   Range amplitude;              ///< amplitude command range (drawn with every command)
   std::array<double, 4> mix{0.4, 0.2, 0.2, 0.2};  ///< chance of a forward, sideways, turn or zero command
   bool pushes = true;           ///< pushes as in the skill's randomisation
+  bool ramp = false;            ///< commands ramp at the keyboard's rates (see CommandDef::ramp)
   int standEpisodes = 0;        ///< zero-command episodes without pushes (drift)
   double standSeconds = 10;
   double noFallPercent = -1;    ///< bar: episodes without a fall [%] (>=)
@@ -160,8 +175,11 @@ struct SkillTree {
 /// Loads and validates the tree. Joint groups in [gains]/[action_scale] are matched against the model's joint names.
 SkillTree loadSkillTree(const std::string& path, const RobotModel& model);
 
-/// Default location: assets/skills/tree.toml.
+/// The tree file the apps use: assets/skills/tree.toml, unless setSkillTreePath chose another.
 std::string defaultSkillTreePath();
+
+/// Makes defaultSkillTreePath() return path (e.g. an experiment's copy of the tree; "" = back to the default).
+void setSkillTreePath(const std::string& path);
 
 /// Joint-group names usable in the tree file (hip_pitch, knee, ..., wrist_roll) and whether joint j belongs.
 bool jointInGroup(const std::string& jointName, const std::string& group);

@@ -1,6 +1,8 @@
 // skill_env.cpp — the training environment of a skill.
 #include "ai/env/skill_env.h"
 
+#include "engine/input/command.h"
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +11,7 @@
 #include "ai/env/ball_task.h"
 #include "ai/env/terrain.h"
 #include "engine/core/error.h"
+#include "engine/input/command.h"
 
 #include "engine/loop/clock.h"
 #include "game/session.h"
@@ -41,6 +44,7 @@ struct SkillEnv::Env {
   float finishedReturn = 0;
   int finishedLength = 0;
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
+  robot::SkillCommand target;  // the latest draw, which a ramped velocity command is heading for
   int lesson = 0, finishedLesson = 0;  // the curriculum lesson this episode's terrain was built for
   engine::BallId ball = -1;             // the kick's ball (-1: none)
   engine::BallState ballState;
@@ -76,7 +80,7 @@ double SkillEnv::physicsSeconds() const {
 // commands follow the keyboard's interlock: one of vx, vy, wz non-zero, or all zero
 void SkillEnv::sampleCommand(Env& e) {
   const robot::CommandDef& c = skill_.commands;
-  const double amplitude = e.command.amplitude;  // a ramped amplitude continues from where it is
+  const robot::SkillCommand now = e.command;  // ramped commands continue from where they are
   e.command = robot::SkillCommand{};
   const double pick = unit(e.rng);
   if (pick >= c.zeroProbability) {
@@ -91,7 +95,13 @@ void SkillEnv::sampleCommand(Env& e) {
   }
   if (c.amplitude.hi > 0) {
     e.amplitudeTarget = uniform(e.rng, c.amplitude);
-    e.command.amplitude = c.amplitudeRate > 0 ? amplitude : e.amplitudeTarget;
+    e.command.amplitude = c.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
+  }
+  e.target = e.command;
+  if (c.ramp) {
+    e.command.vx = now.vx;
+    e.command.vy = now.vy;
+    e.command.wz = now.wz;
   }
   e.nextCommandTick = e.tick + int(std::lround(c.resampleSeconds / engine::kTickSeconds));
 }
@@ -168,10 +178,15 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       const double step = skill_.commands.amplitudeRate * engine::kTickSeconds;
       e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
     }
+    if (skill_.commands.ramp) {
+      const engine::CommandLimits keys;  // the keyboard's rates
+      engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
+                                  &e.command.vy, &e.command.wz);
+    }
     // control: targets from action + prior, then the physics substeps with PD every substep
-    e.phase.advance(skill_.prior.halfPeriodTicks);
+    e.phase.advance(skill_.prior, e.command);
     robot::PdCommand pd;
-    robot::skillPdCommand(e.model, skill_, e.action, e.phase.tp, e.command, &pd);
+    robot::skillPdCommand(e.model, skill_, e.action, e.phase, e.command, &pd);
     e.robot->setCommand(pd);
     const auto t0 = std::chrono::steady_clock::now();
     for (int k = 0; k < game::kSubsteps; ++k) {

@@ -11,6 +11,7 @@
 #include "ai/env/ball_task.h"
 #include "ai/env/terrain.h"
 #include "ai/rewards/reward_terms.h"
+#include "engine/input/command.h"
 #include "engine/loop/clock.h"
 #include "game/session.h"
 #include "robot/skill_controller.h"
@@ -26,6 +27,7 @@ struct Episode {
   std::unique_ptr<robot::Robot> robot;
   std::mt19937_64 rng;
   robot::SkillCommand command;
+  robot::SkillCommand target;  // this segment's draw; a ramped command heads for it
   robot::PhaseClock phase;
   std::array<float, robot::kActionSize> action{};
   robot::Sensors sensors;
@@ -63,7 +65,7 @@ enum class Mode { kWalking, kStanding, kSweep };
 double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
 
 void sampleCommand(const robot::CardDef& card, Episode& e) {
-  const double amplitude = e.command.amplitude;
+  const robot::SkillCommand now = e.command;  // ramped commands continue from where they are
   e.command = robot::SkillCommand{};
   const double kind = unit(e.rng);
   const std::array<double, 4>& m = card.mix;
@@ -72,9 +74,18 @@ void sampleCommand(const robot::CardDef& card, Episode& e) {
   else if (kind < m[0] + m[1] + m[2]) e.command.wz = uniform(e.rng, card.wz);
   if (card.amplitude.hi > 0) {
     e.amplitudeTarget = uniform(e.rng, card.amplitude);
-    e.command.amplitude = e.amplitudeRate > 0 ? amplitude : e.amplitudeTarget;
+    e.command.amplitude = e.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
+  }
+  e.target = e.command;
+  if (card.ramp) {
+    e.command.vx = now.vx;
+    e.command.vy = now.vy;
+    e.command.wz = now.wz;
   }
 }
+
+// the kind of a command: 0 forward/backward, 1 sideways, 2 turn, 3 zero
+int commandKind(const robot::SkillCommand& c) { return c.vx != 0 ? 0 : c.vy != 0 ? 1 : c.wz != 0 ? 2 : 3; }
 
 // runs a batch of episodes of `ticks` ticks; standing episodes keep a zero command and no pushes
 void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
@@ -133,10 +144,15 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         const double step = e.amplitudeRate * engine::kTickSeconds;
         e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
       }
+      if (walking && o.ramp) {
+        const engine::CommandLimits keys;  // the keyboard's rates
+        engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
+                                    &e.command.vy, &e.command.wz);
+      }
       robot::filterAction(walk, act.col(i).data(), &e.action);
-      e.phase.advance(walk.prior.halfPeriodTicks);
+      e.phase.advance(walk.prior, e.command);
       robot::PdCommand pd;
-      robot::skillPdCommand(e.model, walk, e.action, e.phase.tp, e.command, &pd);
+      robot::skillPdCommand(e.model, walk, e.action, e.phase, e.command, &pd);
       e.robot->setCommand(pd);
       for (int k = 0; k < game::kSubsteps; ++k) {
         e.robot->applyPd(*e.world);
@@ -148,7 +164,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       if (std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||
           e.sensors.basePosition.z() < walk.termination.minHeight) {
         e.fallen = true;
-        e.fallKind = e.command.vx != 0 ? 0 : e.command.vy != 0 ? 1 : e.command.wz != 0 ? 2 : 3;
+        e.fallKind = commandKind(walking ? e.target : e.command);  // what the segment asks for
         e.fellAfterPush = tick - e.lastPush <= 100;
         return;
       }
@@ -160,7 +176,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
                                 -std::sin(yaw) * vWorld.x() + std::cos(yaw) * vWorld.y());
         const double err = (v - Eigen::Vector2d(e.command.vx, e.command.vy)).norm();
         e.speedError += err;
-        const int kind = e.command.vx != 0 ? 0 : e.command.vy != 0 ? 1 : e.command.wz != 0 ? 2 : 3;
+        const int kind = commandKind(walking ? e.target : e.command);
         e.kindError[kind] += err;
         ++e.kindCount[kind];
         const double wz = (e.sensors.baseRotation * e.sensors.angularVelocity).z();

@@ -60,6 +60,7 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
       {"treelearn.prior", std::string(prior) + " T1=" + std::to_string(skill.prior.halfPeriodTicks) +
                               " dh=" + std::to_string(skill.prior.dh) + " d0=" + std::to_string(skill.prior.d0) +
                               " stand_still=" + (skill.prior.standStill ? "true" : "false") +
+                              (skill.prior.standRampTicks != 0 ? " stand_ramp_ticks=" + std::to_string(skill.prior.standRampTicks) : "") +
                               (skill.prior.stride != 0 ? " stride=" + std::to_string(skill.prior.stride) : "") +
                               (skill.prior.armSwing != 0 ? " arm_swing=" + std::to_string(skill.prior.armSwing) : "") +
                               (skill.prior.kind == robot::PriorDef::Kind::Pose || skill.prior.kind == robot::PriorDef::Kind::Jump ||
@@ -69,6 +70,7 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
                               (skill.prior.kind == robot::PriorDef::Kind::Kick
                                    ? " swing=" + joinNumbers(skill.prior.swingOffset.data(), skill.prior.swingOffset.size())
                                    : "") +
+                              (skill.prior.hasLate ? " late=" + joinNumbers(skill.prior.lateOffset.data(), skill.prior.lateOffset.size()) : "") +
                               (skill.prior.crouch != 0 ? " crouch=" + std::to_string(skill.prior.crouch) : "")},
       {"treelearn.robot_hash", engine::toHex(model.hash)},
       {"treelearn.env_steps", std::to_string(envSteps)},

@@ -47,7 +47,11 @@ double actionRate(const RewardContext& c) {
 }
 double verticalVelocity(const RewardContext& c) { return -std::abs(c.sensors->linearVelocity.z()); }
 double footLift(const RewardContext& c) {
-  const double e = (c.sensors->footHeight[1] - kFootLiftHeight * c.command->amplitude) / 0.04;
+  // a two-stage pose lifts the foot in its late stage only
+  double first, late;
+  robot::poseStages(c.skill->prior, c.command->amplitude, &first, &late);
+  const double lift = c.skill->prior.hasLate ? late : c.command->amplitude;
+  const double e = (c.sensors->footHeight[1] - kFootLiftHeight * lift) / 0.04;
   return std::exp(-e * e);
 }
 double jumpHeight(const RewardContext& c) {
@@ -87,7 +91,7 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"air_time", &airTime, "1 while neither foot touches the ground"},
       {"ball_speed", &ballSpeed, "min(3.5, max(0, v_ball . target)) / 2.5 m/s"},
       {"ball_straight", &ballStraight, "-|v_ball x target| (sideways ball speed)"},
-      {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m amplitude) / 0.04 m)^2)"},
+      {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m lift) / 0.04 m)^2), lift = amplitude or a two-stage pose's late weight"},
   };
   return kTable;
 }

@@ -74,23 +74,21 @@ void CommandInput::apply(const KeyEvent& event) {
   }
 }
 
+void rampVelocityCommand(double targetVx, double targetVy, double targetWz, double vRate, double wzRate, double* vx,
+                         double* vy, double* wz) {
+  *vx = moveTowards(*vx, *vy == 0.0 && *wz == 0.0 ? targetVx : 0.0, vRate);
+  *vy = moveTowards(*vy, *vx == 0.0 && *wz == 0.0 ? targetVy : 0.0, vRate);
+  *wz = moveTowards(*wz, *vx == 0.0 && *vy == 0.0 ? targetWz : 0.0, wzRate);
+}
+
 void CommandInput::tick() {
   const uint32_t keys = state_.keysHeld;
   CommandState& s = state_;
 
   // Velocity axes in a fixed order; each sees the others as already updated this tick.
-  const int forward = direction(keys, 'W', 'S');
-  double target = 0.0;
-  if (forward != 0 && s.vy == 0.0 && s.wz == 0.0) target = forward > 0 ? limits_.vxForward : limits_.vxBackward;
-  s.vx = moveTowards(s.vx, target, limits_.vRate);
-
-  const int side = direction(keys, 'Q', 'E');
-  target = (side != 0 && s.vx == 0.0 && s.wz == 0.0) ? side * limits_.vyMax : 0.0;
-  s.vy = moveTowards(s.vy, target, limits_.vRate);
-
-  const int turn = direction(keys, 'A', 'D');
-  target = (turn != 0 && s.vx == 0.0 && s.vy == 0.0) ? turn * limits_.wzMax : 0.0;
-  s.wz = moveTowards(s.wz, target, limits_.wzRate);
+  const int forward = direction(keys, 'W', 'S'), side = direction(keys, 'Q', 'E'), turn = direction(keys, 'A', 'D');
+  rampVelocityCommand(forward > 0 ? limits_.vxForward : forward < 0 ? limits_.vxBackward : 0.0, side * limits_.vyMax,
+                      turn * limits_.wzMax, limits_.vRate, limits_.wzRate, &s.vx, &s.vy, &s.wz);
 
   // Amplitude: R raises, F lowers, kept in [0, 1].
   const int raise = direction(keys, 'R', 'F');

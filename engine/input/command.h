@@ -39,6 +39,14 @@ struct CommandLimits {
   double amplitudeRate = 0.01;  ///< change of amplitude per tick while R (up) or F (down) is held
 };
 
+/// One tick of the keyboard's velocity ramp with its interlock (below): vx, vy, wz move, in that order, toward
+/// their targets by at most vRate, vRate, wzRate; an axis whose two others are not both zero (as already
+/// updated in this tick) moves toward 0 instead. With targets that have one non-zero axis this gives what a
+/// player's keys give: the old axis ramps down first, then the new one up. Training and report cards use it
+/// so that a skill meets the command changes it meets in play.
+void rampVelocityCommand(double targetVx, double targetVy, double targetWz, double vRate, double wzRate, double* vx,
+                         double* vy, double* wz);
+
 /// Key events in, one CommandState per control tick out.
 ///
 /// Interlock (the paper's agent): at most one of vx, vy, wz is non-zero at a time.

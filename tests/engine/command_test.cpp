@@ -66,6 +66,20 @@ TEST(CommandInput, SwitchingFromWToARampsVxToZeroBeforeWzRises) {
   EXPECT_EQ(input.state().vx, 0.0);
 }
 
+TEST(CommandRamp, AChangeOfAxisRampsTheOldAxisDownBeforeTheNewOneRises) {
+  // what training and report cards do with a new draw: vx 1.2 -> wz -1.0 at the keys' rates
+  double vx = 1.2, vy = 0.0, wz = 0.0;
+  for (int i = 0; i < 59; ++i) rampVelocityCommand(0.0, 0.0, -1.0, 0.02, 0.03, &vx, &vy, &wz);
+  EXPECT_NEAR(vx, 0.02, 1e-9);  // 59 ticks of 0.02 m/s
+  EXPECT_EQ(wz, 0.0);           // still blocked by vx
+  rampVelocityCommand(0.0, 0.0, -1.0, 0.02, 0.03, &vx, &vy, &wz);
+  EXPECT_EQ(vx, 0.0);
+  EXPECT_NEAR(wz, -0.03, 1e-12);  // rises in the tick vx reaches 0
+  for (int i = 0; i < 33; ++i) rampVelocityCommand(0.0, 0.0, -1.0, 0.02, 0.03, &vx, &vy, &wz);
+  EXPECT_NEAR(wz, -1.0, 1e-9);  // 34 ticks: 33 x 0.03 = 0.99, the last snaps
+  EXPECT_EQ(vy, 0.0);
+}
+
 TEST(CommandInput, AxisKeyIsIgnoredWhileAnotherAxisIsMoving) {
   CommandInput walking;
   press(walking, 'W');

@@ -22,7 +22,7 @@ TEST(PosePrior, FullSquatPoseHoldsThePelvisAtTheDocumentedHeight) {
   for (int tick = 0; tick < 500; ++tick) {
     command.amplitude = std::min(1.0, tick / 200.0);  // 2 s down, then 3 s held
     robot::PdCommand pd;
-    robot::skillPdCommand(model, squat, zero, 0, command, &pd);
+    robot::skillPdCommand(model, squat, zero, robot::PhaseClock{0}, command, &pd);
     r.setCommand(pd);
     for (int k = 0; k < game::kSubsteps; ++k) {
       r.applyPd(world);
@@ -50,12 +50,43 @@ TEST(PosePrior, OneLegPoseLiftsTheRightSoleAboveTheCardHeight) {
   robot::SkillCommand command;
   command.amplitude = 1.0;
   robot::PdCommand pd;
-  robot::skillPdCommand(model, oneLeg, zero, 0, command, &pd);
+  robot::skillPdCommand(model, oneLeg, zero, robot::PhaseClock{0}, command, &pd);
   r.teleport(world, r.linkPose(world, -1), pd.target);
   const robot::Sensors s = r.sense(world);
   EXPECT_NEAR(s.footHeight[0], 0.0, 0.01);  // the left leg is untouched
   EXPECT_GT(s.footHeight[1], 0.10);
   EXPECT_LT(s.footHeight[1], 0.20);
+}
+
+TEST(PosePrior, OneLegFirstStageCarriesTheWeightOnTheLeftFoot) {
+  // physics, zero policy output: the amplitude rises at the skill's rate to 0.5 (the end of the weight shift, at
+  // 0.5 s) and holds; at 0.7 s the centre of mass is over the left ankle sideways and the right foot carries
+  // little (the pose is an unstable balance without a policy, so only the moment after the shift is checked)
+  const robot::RobotModel& model = fixtures::robotModel();
+  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", model);
+  const robot::SkillDef& oneLeg = *tree.find("one_leg");
+  engine::PhysicsWorld world;
+  world.addGround(1.0);
+  robot::Robot r(model, world, 0, 0, 0);
+  const std::array<float, robot::kActionSize> zero{};
+  robot::SkillCommand command;
+  for (int tick = 0; tick < 70; ++tick) {
+    command.amplitude = std::min(0.5, command.amplitude + oneLeg.commands.amplitudeRate * engine::kTickSeconds);
+    robot::PdCommand pd;
+    robot::skillPdCommand(model, oneLeg, zero, robot::PhaseClock{}, command, &pd);
+    r.setCommand(pd);
+    for (int k = 0; k < game::kSubsteps; ++k) {
+      r.applyPd(world);
+      world.step(game::kSubstepSeconds);
+    }
+  }
+  const robot::Sensors s = r.sense(world);
+  const Eigen::Vector3d leftAnkle = r.linkPose(world, 5).translation();  // link 5: left ankle roll
+  std::printf("one_leg shift: CoM - left ankle y %+.3f m, foot forces L %.0f N R %.0f N\n",
+              s.centreOfMass.y() - leftAnkle.y(), s.footForce[0], s.footForce[1]);
+  EXPECT_NEAR(s.centreOfMass.y() - leftAnkle.y(), 0.0, 0.03);  // the foot is ~0.07 m wide
+  EXPECT_LT(s.footForce[1], 0.15 * (s.footForce[0] + s.footForce[1]));
+  EXPECT_LT(s.tilt, 0.1);
 }
 
 TEST(PosePrior, JumpCrouchCycleAloneKeepsTheRobotUpAndOnTheGround) {
@@ -74,7 +105,7 @@ TEST(PosePrior, JumpCrouchCycleAloneKeepsTheRobotUpAndOnTheGround) {
   for (int tick = 0; tick < 300; ++tick) {  // three cycles
     clock.advance(jump.prior.halfPeriodTicks);
     robot::PdCommand pd;
-    robot::skillPdCommand(model, jump, zero, clock.tp, robot::SkillCommand{}, &pd);
+    robot::skillPdCommand(model, jump, zero, clock, robot::SkillCommand{}, &pd);
     r.setCommand(pd);
     for (int k = 0; k < game::kSubsteps; ++k) {
       r.applyPd(world);
@@ -103,7 +134,7 @@ TEST(PosePrior, KickSwingReachesThroughTheBallPosition) {
   double reach = -1, footZ = 0;
   for (int tp = 0; tp <= 2 * kick.prior.halfPeriodTicks; ++tp) {
     robot::PdCommand pd;
-    robot::skillPdCommand(model, kick, zero, tp, robot::SkillCommand{}, &pd);
+    robot::skillPdCommand(model, kick, zero, robot::PhaseClock{tp}, robot::SkillCommand{}, &pd);
     r.teleport(world, r.linkPose(world, -1), pd.target);
     const Eigen::Vector3d foot = world.linkPose(r.id(), model.rightFoot).translation();
     if (foot.x() > reach) reach = foot.x(), footZ = r.sense(world).footHeight[1];

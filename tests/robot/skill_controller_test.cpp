@@ -57,7 +57,7 @@ TEST(SkillController, PriorBendsHipKneeAnkleAsThePaperSays) {
   robot::SkillCommand cmd;
   cmd.vx = 0.5;
   robot::PdCommand pd;
-  robot::skillPdCommand(model(), skill, action, 20, cmd, &pd);
+  robot::skillPdCommand(model(), skill, action, robot::PhaseClock{20}, cmd, &pd);
   // left leg at its peak: A = 0.5 * 1 + 0.1 = 0.6; right leg: B = 0.1
   EXPECT_NEAR(pd.target[0], -0.1 - 0.6, 1e-12);   // hip pitch
   EXPECT_NEAR(pd.target[3], 0.3 + 1.2, 1e-12);    // knee +2A
@@ -66,8 +66,44 @@ TEST(SkillController, PriorBendsHipKneeAnkleAsThePaperSays) {
   EXPECT_NEAR(pd.target[9], 0.3 + 0.2, 1e-12);
   EXPECT_NEAR(pd.target[12], 0.5, 1e-12);
   // standing still: dh is dropped when every command is zero
-  robot::skillPdCommand(model(), skill, action, 20, robot::SkillCommand{}, &pd);
+  robot::skillPdCommand(model(), skill, action, robot::PhaseClock{20}, robot::SkillCommand{}, &pd);
   EXPECT_NEAR(pd.target[0], -0.1 - 0.1, 1e-12);
+}
+
+TEST(SkillController, StandRampFadesTheSteppingOutAndBackInOverItsTicks) {
+  robot::SkillDef skill;
+  skill.prior.kind = robot::PriorDef::Kind::Phase;
+  skill.prior.halfPeriodTicks = 40;
+  skill.prior.dh = 0.5;
+  skill.prior.standRampTicks = 40;  // 0.4 s
+  skill.kp.fill(10);
+  skill.kd.fill(1);
+  skill.actionScale.fill(0.25);
+  const std::array<float, robot::kActionSize> action{};
+  robot::SkillCommand walk;
+  walk.vx = 0.5;
+  robot::PhaseClock clock;
+  EXPECT_EQ(clock.gait, 0.0);  // a fresh clock stands
+  for (int i = 0; i < 20; ++i) clock.advance(skill.prior, walk);
+  EXPECT_NEAR(clock.gait, 0.5, 1e-12);  // 20 of 40 ticks
+  // tp = 20 is the left leg's peak: the hip gets -dh x gait = -0.25 on top of its default -0.1
+  robot::PdCommand pd;
+  robot::skillPdCommand(model(), skill, action, clock, walk, &pd);
+  EXPECT_EQ(clock.tp, 20);
+  EXPECT_NEAR(pd.target[0], -0.1 - 0.25, 1e-12);
+  for (int i = 0; i < 30; ++i) clock.advance(skill.prior, walk);
+  EXPECT_DOUBLE_EQ(clock.gait, 1.0);  // saturates
+  // a zero command fades the stepping out at the same rate, not in one tick
+  for (int i = 0; i < 10; ++i) clock.advance(skill.prior, robot::SkillCommand{});
+  EXPECT_NEAR(clock.gait, 0.75, 1e-12);
+  for (int i = 0; i < 30; ++i) clock.advance(skill.prior, robot::SkillCommand{});
+  EXPECT_NEAR(clock.gait, 0.0, 1e-12);
+  robot::skillPdCommand(model(), skill, action, clock, walk, &pd);
+  EXPECT_NEAR(pd.target[0], -0.1, 1e-12);  // no stepping left
+  // without a ramp the gait follows the command in the tick it changes (the lab's rule)
+  skill.prior.standRampTicks = 0;
+  clock.advance(skill.prior, walk);
+  EXPECT_EQ(clock.gait, 1.0);
 }
 
 TEST(SkillController, StrideSwingsTheHipsBackAtLiftOffAndForwardAtTouchDown) {
@@ -82,26 +118,26 @@ TEST(SkillController, StrideSwingsTheHipsBackAtLiftOffAndForwardAtTouchDown) {
   cmd.vx = 0.8;  // swing amplitude 0.2 rad
   robot::PdCommand pd;
   // tp = 0: the left leg lifts off, extended back (+0.2, hip pitch > 0 is backward); the right leg is forward
-  robot::skillPdCommand(model(), skill, action, 0, cmd, &pd);
+  robot::skillPdCommand(model(), skill, action, robot::PhaseClock{0}, cmd, &pd);
   EXPECT_NEAR(pd.target[0], -0.1 + 0.2, 1e-12);
   EXPECT_NEAR(pd.target[4], -0.2 - 0.2, 1e-12);  // its ankle compensates: the sole stays level
   EXPECT_NEAR(pd.target[6], -0.1 - 0.2, 1e-12);
   EXPECT_NEAR(pd.target[10], -0.2 + 0.2, 1e-12);
   EXPECT_NEAR(pd.target[13], 0.2, 1e-12);  // no arm swing configured: shoulders at their default
   skill.prior.armSwing = 0.5;             // 0.4 rad at 0.8 m/s: the left arm forward while its leg is back
-  robot::skillPdCommand(model(), skill, action, 0, cmd, &pd);
+  robot::skillPdCommand(model(), skill, action, robot::PhaseClock{0}, cmd, &pd);
   EXPECT_NEAR(pd.target[13], 0.2 - 0.4, 1e-12);
   EXPECT_NEAR(pd.target[18], 0.2 + 0.4, 1e-12);
   skill.prior.armSwing = 0.0;
   // tp = T1: the left leg touches down in front (cos(pi) = -1)
-  robot::skillPdCommand(model(), skill, action, 40, cmd, &pd);
+  robot::skillPdCommand(model(), skill, action, robot::PhaseClock{40}, cmd, &pd);
   EXPECT_NEAR(pd.target[0], -0.1 - 0.2, 1e-12);
   EXPECT_NEAR(pd.target[6], -0.1 + 0.2, 1e-12);
   // mid-swing the hips pass each other; backwards commands swing the other way
-  robot::skillPdCommand(model(), skill, action, 20, cmd, &pd);
+  robot::skillPdCommand(model(), skill, action, robot::PhaseClock{20}, cmd, &pd);
   EXPECT_NEAR(pd.target[0], -0.1, 1e-12);
   cmd.vx = -0.8;
-  robot::skillPdCommand(model(), skill, action, 0, cmd, &pd);
+  robot::skillPdCommand(model(), skill, action, robot::PhaseClock{0}, cmd, &pd);
   EXPECT_NEAR(pd.target[0], -0.1 - 0.2, 1e-12);
 }
 
@@ -112,7 +148,7 @@ TEST(SkillController, TargetsStayInsideJointLimits) {
   std::array<float, robot::kActionSize> action;
   action.fill(100.0f);  // clipped to kActionClip = 4 -> 8 rad, then to the limits
   robot::PdCommand pd;
-  robot::skillPdCommand(model(), skill, action, 0, robot::SkillCommand{}, &pd);
+  robot::skillPdCommand(model(), skill, action, robot::PhaseClock{0}, robot::SkillCommand{}, &pd);
   for (size_t j = 0; j < size_t(robot::kNumJoints); ++j) EXPECT_DOUBLE_EQ(pd.target[j], model().joints[j].upper);
 }
 
@@ -188,4 +224,7 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(badMix).find("t.toml:21: skill.walk.card.mix must add up to 1"), std::string::npos) << errorOf(badMix);
   const std::string badType = walk + "[skill.walk.card]\ntype = \"juggling\"\n";
   EXPECT_NE(errorOf(badType).find("t.toml:19: skill.walk.card.type"), std::string::npos) << errorOf(badType);
+  const std::string badRamp = walk + "[skill.walk.commands]\nvx = [0, 1]\nramp = 2\n";
+  EXPECT_NE(errorOf(badRamp).find("t.toml:21: skill.walk.commands.ramp must be true or false"), std::string::npos)
+      << errorOf(badRamp);
 }
