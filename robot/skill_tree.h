@@ -63,6 +63,9 @@ struct CommandDef {
   /// (engine::rampVelocityCommand), as they do in play; false: they jump to it
   bool ramp = false;
   double resampleSeconds = 5.0;  ///< a new command every so often
+  /// each interval is resampleSeconds x (1 + U(-jitter, jitter)): without it every change meets the gait at the
+  /// same phase (5 s = 6.25 cycles of 0.8 s), and the policy never learns changes at the other phases
+  double resampleJitter = 0.0;
 };
 
 struct RandomisationDef {

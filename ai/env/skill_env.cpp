@@ -103,7 +103,8 @@ void SkillEnv::sampleCommand(Env& e) {
     e.command.vy = now.vy;
     e.command.wz = now.wz;
   }
-  e.nextCommandTick = e.tick + int(std::lround(c.resampleSeconds / engine::kTickSeconds));
+  const double stretch = c.resampleJitter > 0 ? 1.0 + c.resampleJitter * (2.0 * unit(e.rng) - 1.0) : 1.0;
+  e.nextCommandTick = e.tick + std::max(1, int(std::lround(c.resampleSeconds * stretch / engine::kTickSeconds)));
 }
 
 void SkillEnv::resetEnv(Env& e) {

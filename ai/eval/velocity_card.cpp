@@ -54,7 +54,9 @@ struct Episode {
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   double bestKick = 0;
   int fallKind = -1;         // command kind active when it fell (0 forward/backward, 1 sideways, 2 turn, 3 zero)
-  bool fellAfterPush = false;  // within 1 s of a push
+  bool fellAfterPush = false;  // within 2 s of a push
+  bool fellAfterChange = false;  // within 2 s of a command change (not counting the first command)
+  int fallTick = -1;
   int lastPush = -1000;  // ticks the right sole has been (and was at most) lifted in one go
 };
 
@@ -165,7 +167,9 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
           e.sensors.basePosition.z() < walk.termination.minHeight) {
         e.fallen = true;
         e.fallKind = commandKind(walking ? e.target : e.command);  // what the segment asks for
-        e.fellAfterPush = tick - e.lastPush <= 100;
+        e.fellAfterPush = tick - e.lastPush <= 200;
+        e.fellAfterChange = e.segmentStart > 0 && tick - e.segmentStart <= 200;
+        e.fallTick = tick;
         return;
       }
       if (mode != Mode::kStanding && tick - e.segmentStart > settle) {
@@ -350,13 +354,22 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     if (moves && kindCount[k] && o.mix[size_t(k)] < 1.0) r.figures.push_back({kinds[k], kindError[k] / double(kindCount[k]), "(reported)", true});
   r.figures.push_back({"mean time survived (of each episode)", 100.0 * survival, "(reported) %", true});
   if (moves && upright < o.episodes) {
-    int byKind[4] = {0, 0, 0, 0}, afterPush = 0;
+    int byKind[4] = {0, 0, 0, 0}, afterPush = 0, afterChange = 0;
     for (const Episode& e : walking)
-      if (e.fallen) ++byKind[e.fallKind], afterPush += e.fellAfterPush;
-    char name[128];
-    std::snprintf(name, sizeof name, "  falls: fwd/back %d, side %d, turn %d, zero %d; <1 s after a push %d", byKind[0],
-                  byKind[1], byKind[2], byKind[3], afterPush);
+      if (e.fallen) ++byKind[e.fallKind], afterPush += e.fellAfterPush, afterChange += e.fellAfterChange;
+    char name[160];
+    std::snprintf(name, sizeof name, "  falls: fwd/back %d, side %d, turn %d, zero %d; <2 s after a push %d, <2 s after a change %d",
+                  byKind[0], byKind[1], byKind[2], byKind[3], afterPush, afterChange);
     r.figures.push_back({name, double(o.episodes - upright), "(reported)", true});
+    // when: falls per command segment of the episode
+    const int segmentTicks = std::max(1, int(std::lround(o.segmentSeconds / engine::kTickSeconds)));
+    const int segments = std::max(1, int(std::ceil(o.episodeSeconds / std::max(1e-9, o.segmentSeconds) - 1e-9)));
+    std::vector<int> bySegment(size_t(segments), 0);
+    for (const Episode& e : walking)
+      if (e.fallen) ++bySegment[size_t(std::min(segments - 1, (e.fallTick - 1) / segmentTicks))];
+    std::string when = "  falls per command segment:";
+    for (int k = 0; k < segments; ++k) when += (k ? ", " : " ") + std::to_string(bySegment[size_t(k)]);
+    r.figures.push_back({when, double(o.episodes - upright), "(reported)", true});
   }
   if (o.standEpisodes > 0) {
     const double d = standFalls ? 1e9 : drift;
