@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 namespace {
 
 const std::string kSource = TREELEARN_SOURCE_DIR;
@@ -147,4 +149,63 @@ TEST(SkillEnv, RampedAmplitudeMovesAtMostItsRatePerTick) {
     highest = std::max(highest, a);
   }
   EXPECT_GT(highest, 0.0f);
+}
+
+TEST(SkillEnv, RampedVelocityCommandsMoveAtTheKeyboardRatesOneAxisAtATime) {
+  robot::SkillDef walk = *fixture().tree.find("walk");
+  walk.commands.ramp = true;
+  walk.commands.zeroProbability = 0.0;
+  walk.commands.resampleSeconds = 2.0;  // several changes within the run
+  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, {4, 1, false});
+  Eigen::MatrixXf obs;
+  env.reset(5, &obs);
+  Eigen::MatrixXf previous = obs.middleRows(robot::kObsCommand, 3);
+  EXPECT_TRUE(previous.isZero());  // episodes start from rest and ramp up
+  ai::StepResult r;
+  int moving = 0;
+  for (int s = 0; s < 700; ++s) {
+    env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 4), &r);
+    const Eigen::MatrixXf now = r.observations.middleRows(robot::kObsCommand, 3);
+    for (int i = 0; i < 4; ++i) {
+      if (r.terminated[size_t(i)] || r.truncated[size_t(i)]) continue;  // a new episode starts at rest
+      EXPECT_LE(std::abs(now(0, i) - previous(0, i)), 0.02f + 1e-5f);  // vx: 2 m/s^2
+      EXPECT_LE(std::abs(now(1, i) - previous(1, i)), 0.02f + 1e-5f);  // vy
+      EXPECT_LE(std::abs(now(2, i) - previous(2, i)), 0.03f + 1e-5f);  // wz: 3 rad/s^2
+      EXPECT_LE((now.col(i).array() != 0.0f).count(), 1);              // the interlock
+      moving += now.col(i).norm() > 0.1f;
+    }
+    previous = now;
+  }
+  EXPECT_GT(moving, 700);  // the commands did move
+}
+
+TEST(SkillEnv, JitteredCommandIntervalsVaryWithinTheirBand) {
+  robot::SkillDef walk = *fixture().tree.find("walk");
+  walk.commands.zeroProbability = 0.0;
+  walk.commands.resampleSeconds = 1.0;
+  walk.commands.resampleJitter = 0.5;  // 0.5 .. 1.5 s
+  walk.termination.episodeSeconds = 100.0;
+  walk.termination.maxTiltDegrees = 180.0;  // nothing ends the episode: only command changes are watched
+  walk.termination.minHeight = -10.0;
+  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, {1, 1, false});
+  Eigen::MatrixXf obs;
+  env.reset(9, &obs);
+  Eigen::VectorXf previous = obs.col(0).segment(robot::kObsCommand, 3);
+  ai::StepResult r;
+  std::vector<int> changes;
+  for (int s = 1; s <= 1000; ++s) {
+    env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 1), &r);
+    const Eigen::VectorXf now = r.observations.col(0).segment(robot::kObsCommand, 3);
+    if (now != previous) changes.push_back(s);
+    previous = now;
+  }
+  ASSERT_GE(changes.size(), 7u);  // 10 s of 0.5-1.5 s intervals
+  std::set<int> intervals;
+  for (size_t k = 1; k < changes.size(); ++k) {
+    const int gap = changes[k] - changes[k - 1];
+    EXPECT_GE(gap, 50);
+    EXPECT_LE(gap, 150);
+    intervals.insert(gap);
+  }
+  EXPECT_GT(intervals.size(), 3u);  // not one fixed interval
 }
