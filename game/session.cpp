@@ -144,6 +144,18 @@ void Session::controlSystem() {
   phase_.advance(active_->def.prior, command);
   robot::PdCommand pd;
   robot::skillPdCommand(model_, active_->def, action_, phase_, command, &pd);
+  if (fadingFrom_ && fadeTicks_ > 0) {
+    // the old prior's share fades linearly: target += w (old prior - new prior), with the policy's part unchanged
+    const double w = double(fadeTicks_) / kSwitchFadeTicks;
+    const std::array<float, robot::kActionSize> none{};
+    robot::PdCommand oldPrior, newPrior;
+    robot::skillPdCommand(model_, fadingFrom_->def, none, phase_, command, &oldPrior);
+    robot::skillPdCommand(model_, active_->def, none, phase_, command, &newPrior);
+    for (size_t j = 0; j < size_t(robot::kNumJoints); ++j)
+      pd.target[j] = std::clamp(pd.target[j] + w * (oldPrior.target[j] - newPrior.target[j]), model_.joints[j].lower,
+                                model_.joints[j].upper);
+    --fadeTicks_;
+  }
   robot_->setCommand(pd);
 }
 
@@ -157,6 +169,8 @@ void Session::switchTo(const SkillRuntime* next) {
     action_.fill(0.0f);
     phase_ = robot::PhaseClock{};
   }
+  fadingFrom_ = active_;
+  fadeTicks_ = active_ ? kSwitchFadeTicks : 0;
   active_ = next;
   activeSince_ = tick_;
   // the keys drive the new skill's command ranges (W to its top speed, and so on)
