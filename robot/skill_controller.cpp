@@ -33,6 +33,14 @@ void filterAction(const SkillDef& skill, const float* policyOutput, std::array<f
   }
 }
 
+void takeCommandDraw(const SkillCommand& before, bool ramp, SkillCommand* command, SkillCommand* target) {
+  *target = *command;
+  if (!ramp) return;
+  command->vx = before.vx;
+  command->vy = before.vy;
+  command->wz = before.wz;
+}
+
 bool commandIsZero(const SkillCommand& c) { return c.vx == 0.0 && c.vy == 0.0 && c.wz == 0.0; }
 
 void PhaseClock::advance(const PriorDef& prior, const SkillCommand& command) {

@@ -28,6 +28,10 @@ void phaseActivation(int tp, int halfPeriodTicks, double* u1, double* u2);
 /// sin and cos of the gait phase pi tp / T1 (one cycle = 2 T1 ticks), for the observation.
 void phaseSignal(int tp, int halfPeriodTicks, double* s, double* c);
 
+/// After a new draw into *command: *target takes the draw and, when the commands ramp, *command keeps the
+/// velocities it had before the draw (`before`) so that the ramp moves them there.
+void takeCommandDraw(const SkillCommand& before, bool ramp, SkillCommand* command, SkillCommand* target);
+
 /// True when every motion command is zero (the walk's "stand still" case).
 bool commandIsZero(const SkillCommand& c);
 

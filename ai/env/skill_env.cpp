@@ -97,12 +97,7 @@ void SkillEnv::sampleCommand(Env& e) {
     e.amplitudeTarget = uniform(e.rng, c.amplitude);
     e.command.amplitude = c.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
   }
-  e.target = e.command;
-  if (c.ramp) {
-    e.command.vx = now.vx;
-    e.command.vy = now.vy;
-    e.command.wz = now.wz;
-  }
+  robot::takeCommandDraw(now, c.ramp, &e.command, &e.target);
   const double stretch = c.resampleJitter > 0 ? 1.0 + c.resampleJitter * (2.0 * unit(e.rng) - 1.0) : 1.0;
   e.nextCommandTick = e.tick + std::max(1, int(std::lround(c.resampleSeconds * stretch / engine::kTickSeconds)));
 }

@@ -78,12 +78,7 @@ void sampleCommand(const robot::CardDef& card, Episode& e) {
     e.amplitudeTarget = uniform(e.rng, card.amplitude);
     e.command.amplitude = e.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
   }
-  e.target = e.command;
-  if (card.ramp) {
-    e.command.vx = now.vx;
-    e.command.vy = now.vy;
-    e.command.wz = now.wz;
-  }
+  robot::takeCommandDraw(now, card.ramp, &e.command, &e.target);
 }
 
 // the kind of a command: 0 forward/backward, 1 sideways, 2 turn, 3 zero
