@@ -95,3 +95,36 @@ TEST(Session, SwitchKeepsTheJointTargetsContinuous) {
   EXPECT_NEAR(bent, 0.6 * skills.skills[0].def.actionScale[3], 1e-6);
   EXPECT_LT(jump, 1e-6);  // and the switch did not move any target
 }
+
+TEST(Session, SwitchFadesTheOldPriorOutOverThreeTenthsOfASecond) {
+  // walk (stepping prior) -> squat (key pose at amplitude 0 = the default pose), both policies output zero:
+  // switched at the left knee's peak (+2 dh = 1.04 rad), the targets move there over 30 ticks, not in one
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  game::SkillSet set;
+  const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
+  robot::SkillDef walk = *shipped.find("walk");
+  walk.prior.standStill = false;  // stepping whatever the command
+  set.skills.push_back({walk, zero});
+  set.skills.push_back({*shipped.find("squat"), zero});
+  game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
+  s.step(engine::parseKeyScript("0.00 tap 0\n", "k"));
+  const int t1 = walk.prior.halfPeriodTicks;
+  for (int i = 1; i < t1 / 2; ++i) s.step({});  // the left leg at its peak (tp = T1 / 2)
+  const double kneeBend = s.robot().command().target[3] - fixtures::robotModel().joints[3].defaultPosition;
+  EXPECT_NEAR(kneeBend, 2.0 * walk.prior.dh, 1e-6);
+  robot::JointArray previous = s.robot().command().target;
+  s.step({{s.tick(), engine::KeyAction::kTap, '3'}});
+  ASSERT_EQ(s.activeSkillName(), "squat");
+  double largestStep = 0;
+  for (int i = 0; i < game::kSwitchFadeTicks + 5; ++i) {
+    const robot::JointArray now = s.robot().command().target;
+    for (size_t j = 0; j < now.size(); ++j) largestStep = std::max(largestStep, std::abs(now[j] - previous[j]));
+    previous = now;
+    s.step({});
+  }
+  // a linear fade of ~1.04 rad over 30 ticks moves at most ~0.035 rad per tick, plus the gait's own motion
+  EXPECT_LT(largestStep, 0.1);
+  for (size_t j = 0; j < previous.size(); ++j)  // faded out: the squat's targets (its default pose)
+    EXPECT_NEAR(previous[j], fixtures::robotModel().joints[j].defaultPosition, 1e-9) << "joint " << j;
+}
