@@ -9,25 +9,41 @@
 #include "robot/skill_controller.h"
 #include "tests/fixtures.h"
 
+namespace {
+
+const robot::SkillTree& shippedTree() {
+  static const robot::SkillTree tree =
+      robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  return tree;
+}
+
+// one control tick of the skill's prior alone (zero policy output): PD targets, then the physics substeps
+void stepPriorOnly(const robot::SkillDef& skill, const robot::PhaseClock& clock, const robot::SkillCommand& command,
+                   robot::Robot& r, engine::PhysicsWorld& world) {
+  const std::array<float, robot::kActionSize> zero{};
+  robot::PdCommand pd;
+  robot::skillPdCommand(fixtures::robotModel(), skill, zero, clock, command, &pd);
+  r.setCommand(pd);
+  for (int k = 0; k < game::kSubsteps; ++k) {
+    r.applyPd(world);
+    world.step(game::kSubstepSeconds);
+  }
+}
+
+}  // namespace
+
 TEST(PosePrior, FullSquatPoseHoldsThePelvisAtTheDocumentedHeight) {
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", model);
+  const robot::SkillTree& tree = shippedTree();
   const robot::SkillDef& squat = *tree.find("squat");
   engine::PhysicsWorld world;
   world.addGround(1.0);
   robot::Robot r(model, world, 0, 0, 0);
-  const std::array<float, robot::kActionSize> zero{};
   robot::SkillCommand command;
   double minHeight = 1e9, maxTilt = 0;
   for (int tick = 0; tick < 500; ++tick) {
     command.amplitude = std::min(1.0, tick / 200.0);  // 2 s down, then 3 s held
-    robot::PdCommand pd;
-    robot::skillPdCommand(model, squat, zero, robot::PhaseClock{0}, command, &pd);
-    r.setCommand(pd);
-    for (int k = 0; k < game::kSubsteps; ++k) {
-      r.applyPd(world);
-      world.step(game::kSubstepSeconds);
-    }
+    stepPriorOnly(squat, robot::PhaseClock{0}, command, r, world);
     const robot::Sensors s = r.sense(world);
     minHeight = std::min(minHeight, s.basePosition.z());
     maxTilt = std::max(maxTilt, s.tilt);
@@ -42,7 +58,7 @@ TEST(PosePrior, FullSquatPoseHoldsThePelvisAtTheDocumentedHeight) {
 TEST(PosePrior, OneLegPoseLiftsTheRightSoleAboveTheCardHeight) {
   // kinematics only (no physics): with the pelvis where it stands, the folded right leg's sole is >= 0.1 m up
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", model);
+  const robot::SkillTree& tree = shippedTree();
   const robot::SkillDef& oneLeg = *tree.find("one_leg");
   engine::PhysicsWorld world;  // no ground: the robot is only posed, never stepped
   robot::Robot r(model, world, 0, 0, 0);
@@ -63,22 +79,15 @@ TEST(PosePrior, OneLegFirstStageCarriesTheWeightOnTheLeftFoot) {
   // 0.5 s) and holds; at 0.7 s the centre of mass is over the left ankle sideways and the right foot carries
   // little (the pose is an unstable balance without a policy, so only the moment after the shift is checked)
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", model);
+  const robot::SkillTree& tree = shippedTree();
   const robot::SkillDef& oneLeg = *tree.find("one_leg");
   engine::PhysicsWorld world;
   world.addGround(1.0);
   robot::Robot r(model, world, 0, 0, 0);
-  const std::array<float, robot::kActionSize> zero{};
   robot::SkillCommand command;
   for (int tick = 0; tick < 70; ++tick) {
     command.amplitude = std::min(0.5, command.amplitude + oneLeg.commands.amplitudeRate * engine::kTickSeconds);
-    robot::PdCommand pd;
-    robot::skillPdCommand(model, oneLeg, zero, robot::PhaseClock{}, command, &pd);
-    r.setCommand(pd);
-    for (int k = 0; k < game::kSubsteps; ++k) {
-      r.applyPd(world);
-      world.step(game::kSubstepSeconds);
-    }
+    stepPriorOnly(oneLeg, robot::PhaseClock{}, command, r, world);
   }
   const robot::Sensors s = r.sense(world);
   const Eigen::Vector3d leftAnkle = r.linkPose(world, 5).translation();  // link 5: left ankle roll
@@ -93,24 +102,17 @@ TEST(PosePrior, JumpCrouchCycleAloneKeepsTheRobotUpAndOnTheGround) {
   // without a policy the jump prior only sinks and rises: the robot must stay up, and it must not leave the
   // ground by itself (the jump is the policy's to learn)
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", model);
+  const robot::SkillTree& tree = shippedTree();
   const robot::SkillDef& jump = *tree.find("jump");
   engine::PhysicsWorld world;
   world.addGround(1.0);
   robot::Robot r(model, world, 0, 0, 0);
-  const std::array<float, robot::kActionSize> zero{};
   robot::PhaseClock clock;
   double minHeight = 1e9, maxTilt = 0;
   int airborne = 0;
   for (int tick = 0; tick < 300; ++tick) {  // three cycles
     clock.advance(jump.prior.halfPeriodTicks);
-    robot::PdCommand pd;
-    robot::skillPdCommand(model, jump, zero, clock, robot::SkillCommand{}, &pd);
-    r.setCommand(pd);
-    for (int k = 0; k < game::kSubsteps; ++k) {
-      r.applyPd(world);
-      world.step(game::kSubstepSeconds);
-    }
+    stepPriorOnly(jump, clock, robot::SkillCommand{}, r, world);
     const robot::Sensors s = r.sense(world);
     minHeight = std::min(minHeight, s.basePosition.z());
     maxTilt = std::max(maxTilt, s.tilt);
@@ -126,7 +128,7 @@ TEST(PosePrior, KickSwingReachesThroughTheBallPosition) {
   // kinematics only: at the top of the swing (half-way through the cycle) the right foot is further forward
   // than the ball's centre, and low enough to meet it (ball radius 0.11 m)
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", model);
+  const robot::SkillTree& tree = shippedTree();
   const robot::SkillDef& kick = *tree.find("kick");
   engine::PhysicsWorld world;
   robot::Robot r(model, world, 0, 0, 0);
