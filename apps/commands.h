@@ -31,6 +31,7 @@ struct TrainOptions {
   uint64_t seed = 1;
   std::string runDir;     ///< default runs/SKILL
   int evalEvery = 10;     ///< iterations between report-card evaluations (0 = never)
+  int evalEpisodes = 10;  ///< episodes of each training evaluation (the card's own count is for `eval`)
   double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
   std::string initFrom;   ///< start from this policy file (PolicyState) instead of fresh weights or the parent
   double learningRate = std::nan("");  ///< override of the [ppo] initial learning rate (fine-tuning)

@@ -326,6 +326,7 @@ int main(int argc, char** argv) {
   trainCmd->add_option("--seed", train.seed, "Run seed (default 1)");
   trainCmd->add_option("--run-dir", train.runDir, "Run folder for log.csv, checkpoint.bin, best.bin (default runs/SKILL)");
   trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")->check(CLI::Range(0, 100000));
+  trainCmd->add_option("--eval-episodes", train.evalEpisodes, "Episodes per report-card evaluation during training (default 10; more = a steadier choice of the best policy)")->check(CLI::Range(1, 1000));
   trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd, "Branch init: raise the inherited log-std to at least this");
   trainCmd->add_option("--init-from", train.initFrom, "Start from this policy file (e.g. assets/skills/walk.policy.bin) to fine-tune");
   trainCmd->add_option("--learning-rate", train.learningRate, "Initial learning rate instead of [ppo]'s (e.g. 1e-4 to fine-tune with --init-from)");

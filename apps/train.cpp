@@ -83,7 +83,20 @@ int runTrain(const TrainOptions& o) {
   if (config.bufferSize % envs != 0)
     throw engine::Error("--envs " + std::to_string(envs) + " must divide the PPO buffer size " + std::to_string(config.bufferSize));
 
-  ai::SkillEnv env(l.model, skill, l.tree.path, {envs, o.threads, true});
+  ai::SkillEnvOptions envOptions{envs, o.threads, true};
+  std::shared_ptr<ai::LoadedPolicy> handoverPolicy;
+  if (skill.handover > 0) {  // episodes that start under the parent's shipped model
+    const robot::SkillDef* parent = l.tree.find(skill.parent);
+    const std::string path = modelsDir + "/" + parent->model;
+    if (!std::filesystem::exists(path))
+      throw engine::Error(path + ": handover episodes need the parent skill '" + parent->name + "''s model: train it first");
+    handoverPolicy = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(path));
+    envOptions.parent = parent;
+    envOptions.parentPolicy = [handoverPolicy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { handoverPolicy->act(obs, act); };
+    std::printf("handover episodes: %.0f %% start under '%s' (%s) for %.1f-%.1f s\n", 100 * skill.handover,
+                parent->name.c_str(), path.c_str(), skill.handoverSeconds.lo, skill.handoverSeconds.hi);
+  }
+  ai::SkillEnv env(l.model, skill, l.tree.path, envOptions);
   ai::TrainerOptions options;
   options.runDir = runDir;
   options.totalSteps = steps;
@@ -94,7 +107,7 @@ int runTrain(const TrainOptions& o) {
   if (skill.card.kind != robot::CardDef::Kind::None && o.evalEvery > 0) {
     options.evaluate = [&](const ai::PolicyState& p) {
       ai::CardRun card{skill.card, 1000 + o.seed, o.threads};  // a fixed seed, so resumed runs score identically
-      card.card.episodes = 10;
+      card.card.episodes = o.evalEpisodes;
       card.card.standEpisodes = std::min(4, skill.card.standEpisodes);
       const ai::CardResult r = ai::runVelocityCard(
           l.model, skill, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { ai::actDeterministic(p, obs, act); },

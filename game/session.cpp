@@ -103,6 +103,7 @@ void Session::inputSystem(const std::vector<engine::KeyEvent>& events) {
   if (input_.state().skillRequest >= 0) telemetry_.skillsRequested.insert(input_.state().skillRequest);
 }
 
+
 // the requested skill drives the robot if its model is loaded; otherwise the standing controller does.
 // A request for a skill that is not a parent or child of the active one is routed along the tree, one switch
 // at a time, each once the robot is upright and the previous hop has run kMinHopTicks. A switch takes effect
@@ -114,8 +115,22 @@ void Session::controlSystem() {
   if (wanted && wanted != active_) {
     const SkillRuntime* next = active_ ? skills_->nextHop(*active_, *wanted) : wanted;
     const bool direct = next == wanted;
-    const bool ready = sensors_.tilt < kSwitchMaxTilt && (direct || tick_ - activeSince_ >= kMinHopTicks);
-    if (next && ready) switchTo(next);
+    bool ready = sensors_.tilt < kSwitchMaxTilt && (direct || tick_ - activeSince_ >= kMinHopTicks);
+    if (next && ready && active_ && robot::isStillSkill(next->def) && !robot::isStillSkill(active_->def)) {
+      if (restWaitTicks_ < 0) {  // start braking from the command the keys give now
+        restWaitTicks_ = 0;
+        const engine::CommandState& c = input_.state();
+        brake_.vx = c.vx, brake_.vy = c.vy, brake_.wz = c.wz;
+      }
+      const bool stopped = brake_.vx == 0 && brake_.vy == 0 && brake_.wz == 0;
+      ready = (stopped && robot::atRestForSwitch(sensors_)) || restWaitTicks_ >= robot::kMaxRestWaitTicks;
+    }
+    if (next && ready) {
+      switchTo(next);
+      restWaitTicks_ = -1;
+    }
+  } else {
+    restWaitTicks_ = -1;  // the request went away (or was reached)
   }
   if (!active_) {
     robot_->setCommand(robot::Robot::standingCommand(model_));
@@ -130,6 +145,12 @@ void Session::controlSystem() {
   command.vy = std::clamp(c.vy, std::min(range.vy.lo, 0.0), std::max(range.vy.hi, 0.0));
   command.wz = std::clamp(c.wz, std::min(range.wz.lo, 0.0), std::max(range.wz.hi, 0.0));
   command.amplitude = c.amplitude;
+  if (restWaitTicks_ >= 0) {  // a still skill waits for rest: brake instead of following the keys
+    const engine::CommandLimits& keys = input_.limits();
+    engine::rampVelocityCommand(0, 0, 0, keys.vRate, keys.wzRate, &brake_.vx, &brake_.vy, &brake_.wz);
+    command.vx = brake_.vx, command.vy = brake_.vy, command.wz = brake_.wz;
+    ++restWaitTicks_;
+  }
   if (active_->def.ball.enabled && course_ && course_->firstBall() >= 0) {
     // a ball skill sees the level's ball where training showed it its own (aux slots, heading frame)
     robot::ballIntoCommand(sensors_, physics_.ballState(course_->firstBall()).position, &command);
@@ -146,14 +167,7 @@ void Session::controlSystem() {
   robot::skillPdCommand(model_, active_->def, action_, phase_, command, &pd);
   if (fadingFrom_ && fadeTicks_ > 0) {
     // the old prior's share fades linearly: target += w (old prior - new prior), with the policy's part unchanged
-    const double w = double(fadeTicks_) / kSwitchFadeTicks;
-    const std::array<float, robot::kActionSize> none{};
-    robot::PdCommand oldPrior, newPrior;
-    robot::skillPdCommand(model_, fadingFrom_->def, none, phase_, command, &oldPrior);
-    robot::skillPdCommand(model_, active_->def, none, phase_, command, &newPrior);
-    for (size_t j = 0; j < size_t(robot::kNumJoints); ++j)
-      pd.target[j] = std::clamp(pd.target[j] + w * (oldPrior.target[j] - newPrior.target[j]), model_.joints[j].lower,
-                                model_.joints[j].upper);
+    robot::fadePrior(model_, fadingFrom_->def, active_->def, phase_, command, double(fadeTicks_) / kSwitchFadeTicks, &pd);
     --fadeTicks_;
   }
   robot_->setCommand(pd);
@@ -162,9 +176,7 @@ void Session::controlSystem() {
 void Session::switchTo(const SkillRuntime* next) {
   telemetry_.switches.push_back({tick_, active_ ? active_->def.name : "stand", next->def.name});
   if (active_) {
-    // same fraction of the gait cycle under the new period
-    const int from = active_->def.prior.halfPeriodTicks, to = next->def.prior.halfPeriodTicks;
-    phase_.tp = std::min(2 * to, int(std::lround(double(phase_.tp) * to / from)));
+    robot::carryPhase(active_->def.prior, next->def.prior, &phase_);  // same fraction of the gait cycle
   } else {
     action_.fill(0.0f);
     phase_ = robot::PhaseClock{};

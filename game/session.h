@@ -36,9 +36,8 @@ constexpr double kFallTilt = 0.8;
 constexpr double kSwitchMaxTilt = 0.35;
 /// ... and an intermediate skill of a route has run at least this many ticks.
 constexpr int kMinHopTicks = 50;
-/// After a switch the old skill's prior fades into the new one's over this many ticks (0.3 s): without it a switch
-/// in mid-step drops a lifted foot's prior (up to 1.1 rad at the knee) in one tick.
-constexpr int kSwitchFadeTicks = 30;
+// the switch fade and the rest rule for still skills: robot/skill_controller.h (kSwitchFadeTicks, kRestSpeed)
+using robot::kSwitchFadeTicks;
 
 struct SessionOptions {
   uint64_t seed = 1;                ///< drives every random choice (today: the initial joint jitter)
@@ -126,6 +125,8 @@ class Session {
   int64_t activeSince_ = 0;               // tick of the latest switch
   const SkillRuntime* fadingFrom_ = nullptr;  // the previous skill, whose prior is fading out
   int fadeTicks_ = 0;                     // ticks of that fade left
+  int restWaitTicks_ = -1;                // ticks a switch into a still skill has waited (-1: none waiting)
+  robot::SkillCommand brake_;             // the velocity command ramping to zero meanwhile
   std::array<float, robot::kActionSize> action_{};
   robot::PhaseClock phase_;
   Eigen::MatrixXf observation_, policyOutput_;

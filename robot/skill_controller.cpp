@@ -107,4 +107,32 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
     out->target[j] = std::clamp(out->target[j], model.joints[j].lower, model.joints[j].upper);
 }
 
+bool isStillSkill(const SkillDef& skill) {
+  const CommandDef& c = skill.commands;
+  return c.vx.lo == 0 && c.vx.hi == 0 && c.vy.lo == 0 && c.vy.hi == 0 && c.wz.lo == 0 && c.wz.hi == 0;
+}
+
+bool atRestForSwitch(const Sensors& sensors) {
+  const Eigen::Vector3d v = sensors.baseRotation * sensors.linearVelocity;
+  const double wz = (sensors.baseRotation * sensors.angularVelocity).z();
+  return v.head<2>().norm() < kRestSpeed && std::abs(wz) < kRestYawRate && sensors.footContact[0] &&
+         sensors.footContact[1];
+}
+
+void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase) {
+  phase->tp = std::min(2 * to.halfPeriodTicks,
+                       int(std::lround(double(phase->tp) * to.halfPeriodTicks / from.halfPeriodTicks)));
+}
+
+void fadePrior(const RobotModel& model, const SkillDef& from, const SkillDef& to, const PhaseClock& phase,
+               const SkillCommand& command, double w, PdCommand* out) {
+  const std::array<float, kActionSize> none{};
+  PdCommand oldPrior, newPrior;
+  skillPdCommand(model, from, none, phase, command, &oldPrior);
+  skillPdCommand(model, to, none, phase, command, &newPrior);
+  for (size_t j = 0; j < size_t(kNumJoints); ++j)
+    out->target[j] = std::clamp(out->target[j] + w * (oldPrior.target[j] - newPrior.target[j]), model.joints[j].lower,
+                                model.joints[j].upper);
+}
+
 }  // namespace robot

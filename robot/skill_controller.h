@@ -45,4 +45,27 @@ void filterAction(const SkillDef& skill, const float* policyOutput, std::array<f
 void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action,
                     const PhaseClock& phase, const SkillCommand& command, PdCommand* out);
 
+// --- switching (the runtime's Session and the training environment's handover episodes share these) ---
+
+/// A switch fades the old skill's prior into the new one's over this many ticks (0.3 s): without it a switch
+/// in mid-step drops a lifted foot's prior (up to 1.1 rad at the knee) in one tick.
+constexpr int kSwitchFadeTicks = 30;
+/// A skill without a velocity command (squat, jump, one_leg: it stands where it is) is entered from rest: the
+/// active skill's velocity command ramps to zero and the switch waits until the pelvis moves slower than
+/// kRestSpeed [m/s] and turns slower than kRestYawRate [rad/s] with both feet down, or kMaxRestWaitTicks at most.
+constexpr double kRestSpeed = 0.15;
+constexpr double kRestYawRate = 0.3;
+constexpr int kMaxRestWaitTicks = 150;
+
+/// True for a skill that stands where it is: its commands have no vx, vy or wz range.
+bool isStillSkill(const SkillDef& skill);
+/// True when a still skill may take over (see kRestSpeed).
+bool atRestForSwitch(const Sensors& sensors);
+/// The gait counter at a switch keeps its fraction of the cycle under the new skill's period.
+void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase);
+/// The fade after a switch: adds w (from's prior - to's prior) to out's targets (clamped to the joint limits), both
+/// priors taken at the same phase and command; w runs from 1 down to 0 over kSwitchFadeTicks.
+void fadePrior(const RobotModel& model, const SkillDef& from, const SkillDef& to, const PhaseClock& phase,
+               const SkillCommand& command, double w, PdCommand* out);
+
 }  // namespace robot

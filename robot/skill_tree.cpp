@@ -253,7 +253,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.randomisation.pushSpeed = r.range(*d, "push_speed", {0, 0}, 0, 5, where + ".randomisation");
     }
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
-      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards"}, where + ".training");
+      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s"}, where + ".training");
       if (const toml::node* op = tr->get("only_positive_rewards")) {
         auto b = op->value<bool>();
         if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
@@ -261,6 +261,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       }
       s.trainingSteps = int64_t(r.number(*tr, "steps", 1e7, 1, 1e10, where + ".training"));
       s.trainingEnvs = int(r.number(*tr, "envs", 20, 1, 1024, where + ".training"));
+      s.handover = r.number(*tr, "handover", 0, 0, 1, where + ".training");
+      s.handoverSeconds = r.range(*tr, "handover_s", {1.0, 3.0}, 0.01, 60, where + ".training");
+      if (s.handover > 0 && s.parent.empty())
+        throw Error(located(path, r.line(*tr->get("handover")), where + ".training.handover needs a parent skill"));
     }
     if (const toml::table* bt = r.table(*t, "ball", false, where)) {
       const std::string w = where + ".ball";

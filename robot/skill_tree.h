@@ -158,6 +158,12 @@ struct SkillDef {
   int64_t trainingSteps = 10000000;
   int trainingEnvs = 20;
   bool onlyPositiveRewards = true;  ///< clip each step's total reward at 0 (falling early never pays)
+  /// handover episodes: this fraction of training episodes starts with the parent skill's policy driving for
+  /// handoverSeconds (a random command from the parent's ranges) and then switching to this skill the way the
+  /// runtime does (from rest for a still skill, with the prior fade), so the skill learns the states it is
+  /// switched into
+  double handover = 0;
+  Range handoverSeconds{1.0, 3.0};
   CardDef card;
   TerrainDef terrain;
   BallTaskDef ball;

@@ -23,6 +23,20 @@ namespace {
 double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
 double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
 
+// one velocity draw with the keyboard's interlock: one of vx, vy, wz non-zero, or all zero. Forward gets half of
+// the non-zero commands, sideways and turning a quarter each; a kind whose range is [0, 0] (not used by the
+// skill) gives its share to the others
+void drawVelocity(std::mt19937_64& rng, const robot::CommandDef& c, robot::SkillCommand* out) {
+  const double pick = unit(rng);
+  if (pick < c.zeroProbability) return;
+  auto used = [](const robot::Range& r) { return r.lo != 0.0 || r.hi != 0.0; };
+  const double wx = used(c.vx) ? 0.5 : 0.0, wy = used(c.vy) ? 0.25 : 0.0, ww = used(c.wz) ? 0.25 : 0.0;
+  const double which = (pick - c.zeroProbability) / (1.0 - c.zeroProbability) * (wx + wy + ww);
+  if (which < wx) out->vx = uniform(rng, c.vx);
+  else if (which < wx + wy) out->vy = uniform(rng, c.vy);
+  else if (ww > 0) out->wz = uniform(rng, c.wz);
+}
+
 }  // namespace
 
 struct SkillEnv::Env {
@@ -41,6 +55,7 @@ struct SkillEnv::Env {
   // per-step outputs
   float reward = 0;
   uint8_t terminated = 0, truncated = 0;
+  int fadeTicks = 0;  // a handover episode: ticks of the parent prior's fade left
   float finishedReturn = 0;
   int finishedLength = 0;
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
@@ -56,6 +71,11 @@ SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill,
                    const SkillEnvOptions& options)
     : model_(model), skill_(skill), terms_(resolveRewardTerms(skill, treePath)), options_(options),
       pool_(options.threads) {
+  if (skill_.handover > 0) {
+    if (!options_.parent || !options_.parentPolicy)
+      throw engine::Error("skill '" + skill_.name + "' trains handover episodes: the environment needs its parent's policy");
+    parent_ = *options_.parent;
+  }
   for (int i = 0; i < options.numEnvs; ++i) {
     envs_.push_back(std::make_unique<Env>());
     envs_.back()->model = model_;
@@ -82,17 +102,7 @@ void SkillEnv::sampleCommand(Env& e) {
   const robot::CommandDef& c = skill_.commands;
   const robot::SkillCommand now = e.command;  // ramped commands continue from where they are
   e.command = robot::SkillCommand{};
-  const double pick = unit(e.rng);
-  if (pick >= c.zeroProbability) {
-    // forward gets half of the non-zero commands, sideways and turning a quarter each; a kind whose range is
-    // [0, 0] (not used by the skill) gives its share to the others
-    auto used = [](const robot::Range& r) { return r.lo != 0.0 || r.hi != 0.0; };
-    const double wx = used(c.vx) ? 0.5 : 0.0, wy = used(c.vy) ? 0.25 : 0.0, ww = used(c.wz) ? 0.25 : 0.0;
-    const double which = (pick - c.zeroProbability) / (1.0 - c.zeroProbability) * (wx + wy + ww);
-    if (which < wx) e.command.vx = uniform(e.rng, c.vx);
-    else if (which < wx + wy) e.command.vy = uniform(e.rng, c.vy);
-    else if (ww > 0) e.command.wz = uniform(e.rng, c.wz);
-  }
+  drawVelocity(e.rng, c, &e.command);
   if (c.amplitude.hi > 0) {
     e.amplitudeTarget = uniform(e.rng, c.amplitude);
     e.command.amplitude = c.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
@@ -102,7 +112,7 @@ void SkillEnv::sampleCommand(Env& e) {
   e.nextCommandTick = e.tick + std::max(1, int(std::lround(c.resampleSeconds * stretch / engine::kTickSeconds)));
 }
 
-void SkillEnv::resetEnv(Env& e) {
+void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   const robot::RandomisationDef& r = skill_.randomisation;
   double friction = 1.0;
   e.model.articulation.base.mass = model_.articulation.base.mass;
@@ -118,17 +128,24 @@ void SkillEnv::resetEnv(Env& e) {
   // on stairs the robot starts facing them (+X, within +-0.2 rad); elsewhere any heading
   const bool stairs = skill_.terrain.kind == robot::TerrainDef::Kind::Stairs;
   const double yaw = stairs ? 0.2 * (2.0 * unit(e.rng) - 1.0) : M_PI * (2.0 * unit(e.rng) - 1.0);
-  e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0.0, 0.0, yaw, friction);
+  // the draw is the ground's coefficient; the robot's own stays 1 as in the levels (Bullet multiplies the two,
+  // so giving the feet the draw too made the contact coefficient its square: 0.25-1.56 for [0.5, 1.25])
+  e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0.0, 0.0, yaw);
   robot::JointArray q = e.robot->command().target;
   for (double& v : q) v += 0.02 * (2.0 * unit(e.rng) - 1.0);
   e.robot->teleport(*e.world, e.robot->linkPose(*e.world, -1), q);
   e.sensors = e.robot->sense(*e.world);
+  e.phase = robot::PhaseClock{};
+  e.action.fill(0.0f);
+  e.fadeTicks = 0;
+  if (allowHandover && skill_.handover > 0 && unit(e.rng) < skill_.handover && !handOver(e)) {
+    resetEnv(e, false);  // the parent fell before the switch: an ordinary episode instead
+    return;
+  }
+  e.previousAction = e.action;
   e.ball = skill_.ball.enabled ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
   if (e.ball >= 0) e.ballState = e.world->ballState(e.ball);
   e.tick = 0;
-  e.phase = robot::PhaseClock{};
-  e.action.fill(0.0f);
-  e.previousAction.fill(0.0f);
   e.episodeReturn = 0;
   e.command = robot::SkillCommand{};  // every episode starts at amplitude 0
   sampleCommand(e);
@@ -137,6 +154,53 @@ void SkillEnv::resetEnv(Env& e) {
   e.nextPushTick = options_.randomise && pushEvery > 0
                        ? int(std::lround((0.5 + unit(e.rng)) * pushEvery / engine::kTickSeconds))
                        : INT32_MAX;
+}
+
+// The parent drives first, as in play before the skill's key: one command draw from the parent's ranges, ramped
+// at the keys' rates, for a random handover_s; then the switch the runtime makes (robot/skill_controller.h): a
+// still skill waits for rest while the parent's command ramps to zero, and the new skill starts with the parent's
+// filtered action, the gait phase carried over and the parent's prior fading out. Returns false if the parent fell.
+bool SkillEnv::handOver(Env& e) {
+  const robot::SkillDef& p = parent_;
+  robot::SkillCommand command, target;
+  drawVelocity(e.rng, p.commands, &target);
+  const int drive = std::max(1, int(std::lround(uniform(e.rng, skill_.handoverSeconds) / engine::kTickSeconds)));
+  const bool fromRest = robot::isStillSkill(skill_) && !robot::isStillSkill(p);
+  const engine::CommandLimits keys;
+  const double maxTilt = p.termination.maxTiltDegrees * M_PI / 180.0;
+  Eigen::MatrixXf obs(robot::kObservationSize, 1), out;
+  for (int t = 0;; ++t) {
+    if (t >= drive) {
+      if (!fromRest) break;
+      target = robot::SkillCommand{};
+      const bool stopped = command.vx == 0 && command.vy == 0 && command.wz == 0;
+      if ((stopped && robot::atRestForSwitch(e.sensors)) || t - drive >= robot::kMaxRestWaitTicks) break;
+    }
+    engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,
+                                &command.wz);
+    double s, c;
+    robot::phaseSignal(e.phase.tp, p.prior.halfPeriodTicks, &s, &c);
+    robot::Observation o;
+    robot::buildObservation(e.sensors, model_, e.action, command, s, c, &o);
+    for (int k = 0; k < robot::kObservationSize; ++k) obs(k, 0) = o[size_t(k)];
+    options_.parentPolicy(obs, &out);
+    robot::filterAction(p, out.data(), &e.action);
+    e.phase.advance(p.prior, command);
+    robot::PdCommand pd;
+    robot::skillPdCommand(e.model, p, e.action, e.phase, command, &pd);
+    e.robot->setCommand(pd);
+    for (int k = 0; k < game::kSubsteps; ++k) {
+      e.robot->applyPd(*e.world);
+      e.world->step(game::kSubstepSeconds);
+    }
+    e.sensors = e.robot->sense(*e.world);
+    if (std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||
+        e.sensors.basePosition.z() < p.termination.minHeight)
+      return false;
+  }
+  robot::carryPhase(p.prior, skill_.prior, &e.phase);
+  e.fadeTicks = robot::kSwitchFadeTicks;
+  return true;
 }
 
 void SkillEnv::observe(const Env& e, float* out) const {
@@ -183,6 +247,10 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     e.phase.advance(skill_.prior, e.command);
     robot::PdCommand pd;
     robot::skillPdCommand(e.model, skill_, e.action, e.phase, e.command, &pd);
+    if (e.fadeTicks > 0) {  // a handover episode's first 0.3 s: the parent's prior fades out as in play
+      robot::fadePrior(e.model, parent_, skill_, e.phase, e.command, double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
+      --e.fadeTicks;
+    }
     e.robot->setCommand(pd);
     const auto t0 = std::chrono::steady_clock::now();
     for (int k = 0; k < game::kSubsteps; ++k) {

@@ -3,6 +3,7 @@
 // fall/time-out checks, automatic reset. Commands, pushes and randomisation come from the skill-tree entry.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <random>
 #include <vector>
@@ -18,6 +19,10 @@ struct SkillEnvOptions {
   int numEnvs = 20;
   int threads = 2;
   bool randomise = true;  ///< friction, added mass and pushes as the skill says (off = nominal robot, no pushes)
+  /// handover episodes (the skill's training.handover > 0): the parent's tree entry and its deterministic policy
+  /// (observations x batch -> actions x batch; called from the worker threads, so it must be thread-safe)
+  const robot::SkillDef* parent = nullptr;
+  std::function<void(const Eigen::MatrixXf&, Eigen::MatrixXf*)> parentPolicy;
 };
 
 /// Statistics of one environment's current episode, for evaluation.
@@ -54,12 +59,14 @@ class SkillEnv final : public VecEnv {
 
  private:
   struct Env;
-  void resetEnv(Env& e);
+  void resetEnv(Env& e, bool allowHandover = true);
+  bool handOver(Env& e);
   void sampleCommand(Env& e);
   void observe(const Env& e, float* out) const;
 
   robot::RobotModel model_;
   robot::SkillDef skill_;
+  robot::SkillDef parent_;  // handover episodes only
   std::vector<WeightedTerm> terms_;
   SkillEnvOptions options_;
   WorkerPool pool_;

@@ -109,7 +109,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
     const bool stairs = o.kind == robot::CardDef::Kind::Stairs;
     if (stairs) addTerrain(*e.world, walk.terrain, o.stepHeight, friction);
     const double yaw = stairs ? 0.2 * (2 * unit(e.rng) - 1) : M_PI * (2 * unit(e.rng) - 1);
-    e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, yaw, friction);
+    e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, yaw);  // feet 1: the contact gets the draw
     e.sensors = e.robot->sense(*e.world);
     e.start = e.sensors.basePosition.head<2>();
     e.startHeight = e.sensors.basePosition.z();

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <set>
 
 namespace {
@@ -208,4 +209,36 @@ TEST(SkillEnv, JitteredCommandIntervalsVaryWithinTheirBand) {
     intervals.insert(gap);
   }
   EXPECT_GT(intervals.size(), 3u);  // not one fixed interval
+}
+
+TEST(SkillEnv, HandoverEpisodesStartWithTheParentsFilteredAction) {
+  // the parent (walk without a gait) always outputs a balanced crouch (hip pitch -0.4, knee +0.8, ankle pitch
+  // -0.4 on both legs), so the robot stands bent; the squat starts each handover episode after 0.5 s of it (plus
+  // the wait for rest), with the parent's low-passed action (u = 0.8 u + 0.2 a: within 0.8^50 of it) in its
+  // previous-action slot. Without handover the slot is 0.
+  robot::SkillDef walk = *fixture().tree.find("walk");
+  walk.prior.kind = robot::PriorDef::Kind::None;
+  robot::SkillDef squat = *fixture().tree.find("squat");
+  squat.handoverSeconds = {0.5, 0.5};
+  Eigen::VectorXf crouch = Eigen::VectorXf::Zero(robot::kActionSize);
+  for (int leg : {0, 6}) crouch(leg + 0) = -0.4f, crouch(leg + 3) = 0.8f, crouch(leg + 4) = -0.4f;
+  std::atomic<int> calls{0};
+  ai::SkillEnvOptions options{4, 2, false};
+  options.parent = &walk;
+  options.parentPolicy = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
+    ++calls;
+    *a = crouch.replicate(1, obs.cols());
+  };
+  for (double handover : {0.0, 1.0}) {
+    squat.handover = handover;
+    calls = 0;
+    ai::SkillEnv env(fixture().model, squat, fixture().tree.path, options);
+    Eigen::MatrixXf obs;
+    env.reset(7, &obs);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < robot::kActionSize; ++j)
+        EXPECT_NEAR(obs(robot::kObsPreviousAction + j, i), handover > 0 ? crouch(j) : 0.0f, 1e-4) << "env " << i << " joint " << j;
+    if (handover > 0) EXPECT_GE(calls.load(), 4 * 50);  // 0.5 s of the parent in each of the 4 environments
+    else EXPECT_EQ(calls.load(), 0);
+  }
 }

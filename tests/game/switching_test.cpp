@@ -106,7 +106,9 @@ TEST(Session, SwitchFadesTheOldPriorOutOverThreeTenthsOfASecond) {
   robot::SkillDef walk = *shipped.find("walk");
   walk.prior.standStill = false;  // stepping whatever the command
   set.skills.push_back({walk, zero});
-  set.skills.push_back({*shipped.find("squat"), zero});
+  robot::SkillDef squat = *shipped.find("squat");
+  squat.commands.vx = {0.0, 0.1};  // a moving skill here, so that it takes over at once, in mid-step
+  set.skills.push_back({squat, zero});
   game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
   s.step(engine::parseKeyScript("0.00 tap 0\n", "k"));
   const int t1 = walk.prior.halfPeriodTicks;
@@ -127,4 +129,30 @@ TEST(Session, SwitchFadesTheOldPriorOutOverThreeTenthsOfASecond) {
   EXPECT_LT(largestStep, 0.1);
   for (size_t j = 0; j < previous.size(); ++j)  // faded out: the squat's targets (its default pose)
     EXPECT_NEAR(previous[j], fixtures::robotModel().joints[j].defaultPosition, 1e-9) << "joint " << j;
+}
+
+TEST(Session, AStillSkillWaitsUntilTheCommandHasRampedToZeroAndTheRobotRests) {
+  // walk (no gait, zero action: the robot stands) with W held for 1 s: vx = 1.2 m/s. The squat key then brakes
+  // the command at the keys' 0.02 m/s per tick, so the squat (a still skill) takes over 60 ticks later; the run
+  // (a moving skill) would take over at once.
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
+  robot::SkillDef walk = *shipped.find("walk");
+  walk.prior.kind = robot::PriorDef::Kind::None;
+  robot::SkillDef squat = *shipped.find("squat");
+  ASSERT_TRUE(robot::isStillSkill(squat));
+  ASSERT_FALSE(robot::isStillSkill(walk));
+  game::SkillSet set;
+  set.skills.push_back({walk, zero});
+  set.skills.push_back({squat, zero});
+  game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
+  s.step(engine::parseKeyScript("0.00 tap 0\n0.00 down W\n", "k"));
+  for (int i = 0; i < 99; ++i) s.step({});
+  EXPECT_NEAR(s.command().vx, 1.2, 1e-9);
+  const int64_t key = s.tick();
+  s.step({{key, engine::KeyAction::kTap, '3'}});
+  while (s.activeSkillName() != "squat" && s.tick() < key + 300) s.step({});
+  ASSERT_EQ(s.activeSkillName(), "squat");
+  EXPECT_NEAR(double(s.telemetry().switches.back().tick - key), 60.0, 1.0);  // 61 if 1.2 - 60 x 0.02 leaves a rounding crumb
 }

@@ -227,4 +227,7 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string badRamp = walk + "[skill.walk.commands]\nvx = [0, 1]\nramp = 2\n";
   EXPECT_NE(errorOf(badRamp).find("t.toml:21: skill.walk.commands.ramp must be true or false"), std::string::npos)
       << errorOf(badRamp);
+  const std::string rootHandover = walk + "[skill.walk.training]\nhandover = 0.5\n";  // the root has no parent
+  EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
+      << errorOf(rootHandover);
 }
