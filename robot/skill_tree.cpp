@@ -301,7 +301,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       r.onlyKeys(*c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
                       "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
                       "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
-                      "kick_speed", "kick_angle_deg", "ramp"}, w);
+                      "kick_speed", "kick_angle_deg", "ramp", "push_speed"}, w);
       const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
       if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick")
         throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\" or \"kick\""));
@@ -349,6 +349,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         if (!b) throw Error(located(path, r.line(*p2), w + ".pushes must be true or false"));
         d.pushes = *b;
       }
+      if (c->get("push_speed")) d.pushSpeed = r.range(*c, "push_speed", {}, 0, 5, w);
       d.standEpisodes = int(r.number(*c, "stand_episodes", 0, 0, 100000, w));
       d.standSeconds = r.number(*c, "stand_s", 10, 0.1, 3600, w);
       d.noFallPercent = r.number(*c, "no_fall_pct", -1, -1, 100, w);

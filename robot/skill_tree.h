@@ -122,6 +122,9 @@ struct CardDef {
   Range amplitude;              ///< amplitude command range (drawn with every command)
   std::array<double, 4> mix{0.4, 0.2, 0.2, 0.2};  ///< chance of a forward, sideways, turn or zero command
   bool pushes = true;           ///< pushes as in the skill's randomisation
+  /// the card's own push strength [m/s] (lo < 0: the randomisation's), so that training can push harder
+  /// without changing the card
+  Range pushSpeed{-1, -1};
   bool ramp = false;            ///< commands ramp at the keyboard's rates (see CommandDef::ramp)
   int standEpisodes = 0;        ///< zero-command episodes without pushes (drift)
   double standSeconds = 10;

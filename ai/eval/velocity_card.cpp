@@ -212,7 +212,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         engine::ArticulationState s;
         e.world->readState(e.robot->id(), &s);
         const double angle = 2 * M_PI * unit(e.rng);
-        const auto& ps = walk.randomisation.pushSpeed;
+        const robot::Range& ps = o.pushSpeed.lo >= 0 ? o.pushSpeed : walk.randomisation.pushSpeed;
         const double speed = ps.lo + (ps.hi - ps.lo) * unit(e.rng);
         s.baseLinearVelocity += Eigen::Vector3d(std::cos(angle), std::sin(angle), 0) * speed;
         e.world->setState(e.robot->id(), s);
