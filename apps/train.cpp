@@ -122,10 +122,10 @@ int runTrain(const TrainOptions& o) {
     char episodes[96] = "no episode ended";  // long episodes can outlast an iteration's rollout
     if (!std::isnan(p.meanEpisodeReturn))
       std::snprintf(episodes, sizeof episodes, "episode return %.1f  length %.0f", p.meanEpisodeReturn, p.meanEpisodeLength);
-    std::printf("iter %lld/%lld  steps %lld  %.0f steps/s  ETA %.0f min  reward/step %.3f  %s  kl %.4f  clip %.3f  ev %.2f\n",
+    std::printf("iter %lld/%lld  steps %lld  %.0f steps/s  ETA %.0f min  reward/step %.3f  %s  kl %.4f  clip %.3f  ev %.2f  lr %.2g\n",
                 (long long)p.iteration, (long long)p.totalIterations, (long long)p.envSteps, p.stepsPerSecond,
                 p.etaSeconds / 60.0, p.meanReward, episodes, p.stats.approxKl, p.stats.clipFraction,
-                p.stats.explainedVariance);
+                p.stats.explainedVariance, p.stats.learningRate);
     if (!p.curriculumNote.empty()) std::printf("  %s\n", p.curriculumNote.c_str());
     std::fflush(stdout);
   };

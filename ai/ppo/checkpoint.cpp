@@ -108,6 +108,7 @@ void saveCheckpoint(const std::string& path, const TrainerCheckpoint& c) {
   c.optimizer.save(&w);
   w.str(c.rngState);
   w.str(c.envState);
+  w.f64(c.adaptiveLearningRate);
   engine::writeFileAtomic(path, wrap(kCheckpointMagic, w.data()));
 }
 
@@ -125,6 +126,7 @@ TrainerCheckpoint loadCheckpoint(const std::string& path) {
   c.optimizer.load(&r);
   c.rngState = r.str();
   c.envState = r.str();
+  if (!r.atEnd()) c.adaptiveLearningRate = r.f64();
   expectEnd(r);
   if (c.iteration < 0 || c.envSteps < 0) r.fail("negative iteration or step count");
   return c;

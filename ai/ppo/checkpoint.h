@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -38,6 +39,9 @@ struct TrainerCheckpoint {
   Adam optimizer;               ///< moments and step count
   std::string rngState;         ///< the trainer's std::mt19937_64, as written by operator<<
   std::string envState;         ///< VecEnv::saveState()
+  /// the adaptive learning rate (PpoUpdater::adaptiveLearningRate; NaN: none). Written last; a checkpoint from
+  /// before adaptive rates ends without it and reads as NaN.
+  double adaptiveLearningRate = std::nan("");
 };
 
 /// Appends / reads a PolicyState (weights, normaliser statistics, log-std).

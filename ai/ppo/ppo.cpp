@@ -59,6 +59,12 @@ PpoCoefficients scheduledCoefficients(const PpoConfig& config, double progress) 
   return c;
 }
 
+double adaptLearningRate(double learningRate, double kl, const PpoConfig& config) {
+  if (kl > 2.0 * config.desiredKl) learningRate /= 1.5;
+  else if (kl < 0.5 * config.desiredKl) learningRate *= 1.5;
+  return std::clamp(learningRate, config.adaptiveLrMin, config.adaptiveLrMax);
+}
+
 PpoUpdater::PpoUpdater(const PpoConfig& config) : config_(config) {}
 
 PpoStats PpoUpdater::update(const RolloutBuffer& buffer, const PpoCoefficients& coefficients, std::mt19937_64* rng,
@@ -76,6 +82,8 @@ PpoStats PpoUpdater::update(const RolloutBuffer& buffer, const PpoCoefficients& 
   mbReturns_.resize(batch);
   mbValues_.resize(batch);
   permutation_.resize(size_t(total));
+  if (config_.adaptiveLearningRate && std::isnan(adaptiveLr_))
+    adaptiveLr_ = std::clamp(coefficients.learningRate, config_.adaptiveLrMin, config_.adaptiveLrMax);
 
   for (int epoch = 0; epoch < config_.numEpoch; ++epoch) {
     // Fisher-Yates with our own index draw (std::shuffle's algorithm is library-specific)
@@ -110,6 +118,7 @@ PpoStats PpoUpdater::update(const RolloutBuffer& buffer, const PpoCoefficients& 
   stats.approxKl /= steps;
   stats.clipFraction /= steps;
   stats.gradNorm /= steps;
+  stats.learningRate = config_.adaptiveLearningRate ? adaptiveLr_ : coefficients.learningRate;
   const Eigen::ArrayXd ret = Eigen::Map<const Eigen::ArrayXf>(buffer.returns.data(), total).cast<double>();
   const Eigen::ArrayXd val = Eigen::Map<const Eigen::ArrayXf>(buffer.values.data(), total).cast<double>();
   const double varReturns = (ret - ret.mean()).square().mean();
@@ -195,13 +204,16 @@ void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, Pp
       << gradNorm;
     throw TrainingDiverged(m.str());
   }
-  adam_.step(paramRefs_, gradRefs_, float(c.learningRate));
+  // the KL of this minibatch under the current parameters (before the step) sets the adaptive rate, as rsl_rl
+  const double approxKl = double(((ratio - 1.0f) - logRatio).cast<double>().mean());
+  if (config_.adaptiveLearningRate) adaptiveLr_ = adaptLearningRate(adaptiveLr_, approxKl, config_);
+  adam_.step(paramRefs_, gradRefs_, float(config_.adaptiveLearningRate ? adaptiveLr_ : c.learningRate));
   policy->logStd = policy->logStd.cwiseMax(float(config_.logStdMin)).cwiseMin(float(config_.logStdMax));
 
   stats->policyLoss += policyLoss;
   stats->valueLoss += valueLoss;
   stats->entropy += entropy;
-  stats->approxKl += double(((ratio - 1.0f) - logRatio).cast<double>().mean());
+  stats->approxKl += approxKl;
   stats->clipFraction += double(((ratio - 1.0f).abs() > eps).cast<double>().mean());
   stats->gradNorm += gradNorm;
   ++stats->minibatches;

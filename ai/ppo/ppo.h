@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -53,6 +54,10 @@ struct PpoCoefficients {
 /// Linear schedules at progress in [0, 1] (fraction of the run's total env steps done).
 PpoCoefficients scheduledCoefficients(const PpoConfig& config, double progress);
 
+/// The adaptive rate's next value (PpoConfig::adaptiveLearningRate) after a minibatch whose approximate KL is kl:
+/// / 1.5 above 2 desired_kl, x 1.5 below desired_kl / 2, unchanged between; clamped to the config's bounds.
+double adaptLearningRate(double learningRate, double kl, const PpoConfig& config);
+
 /// Means over all minibatch steps of one update.
 struct PpoStats {
   double policyLoss = 0;         ///< clipped surrogate loss
@@ -63,6 +68,7 @@ struct PpoStats {
   double explainedVariance = 0;  ///< 1 - Var(R - V) / Var(R) over the buffer, with the rollout's values
   double gradNorm = 0;           ///< global gradient norm before clipping
   int minibatches = 0;           ///< gradient steps taken
+  double learningRate = 0;       ///< the rate of the last gradient step (the schedule's, or the adaptive one)
 };
 
 /// Gradients of the trainable tensors of a PolicyState.
@@ -81,6 +87,11 @@ class PpoUpdater {
   PpoStats update(const RolloutBuffer& buffer, const PpoCoefficients& coefficients, std::mt19937_64* rng,
                   PolicyState* policy);
 
+  /// The adaptive learning rate carried between updates (NaN until the first update, which starts it at the
+  /// schedule's rate); part of a checkpoint. Unused with the linear schedule.
+  double adaptiveLearningRate() const { return adaptiveLr_; }
+  void setAdaptiveLearningRate(double lr) { adaptiveLr_ = lr; }
+
   /// The optimiser (its state is part of a checkpoint).
   Adam& optimizer() { return adam_; }
   const Adam& optimizer() const { return adam_; }
@@ -91,6 +102,7 @@ class PpoUpdater {
 
   PpoConfig config_;
   Adam adam_;
+  double adaptiveLr_ = std::nan("");
   PolicyGradients grads_;
   MlpCache actorCache_, criticCache_;
   std::vector<int> permutation_;

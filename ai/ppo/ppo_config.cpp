@@ -32,6 +32,10 @@ void visitFields(Config& c, F&& f) {
   f("epsilon_final", c.epsilonFinal);
   f("beta", c.beta);
   f("beta_final", c.betaFinal);
+  f("adaptive_learning_rate", c.adaptiveLearningRate);
+  f("desired_kl", c.desiredKl);
+  f("adaptive_lr_min", c.adaptiveLrMin);
+  f("adaptive_lr_max", c.adaptiveLrMax);
   f("value_loss_coef", c.valueLossCoef);
   f("clip_value_loss", c.clipValueLoss);
   f("normalize_advantages", c.normalizeAdvantages);
@@ -126,6 +130,8 @@ void validatePpoConfig(const PpoConfig& c, const std::string& what) {
   require(c.lambda >= 0 && c.lambda <= 1, "lambda must be in [0, 1]");
   require(c.rewardScale > 0 && std::isfinite(c.rewardScale), "reward_scale must be positive");
   require(c.learningRate >= 0 && c.learningRateFinal >= 0, "learning rates must be non-negative");
+  require(c.desiredKl > 0, "desired_kl must be positive");
+  require(c.adaptiveLrMin > 0 && c.adaptiveLrMin <= c.adaptiveLrMax, "adaptive_lr_min must be positive and at most adaptive_lr_max");
   require(c.epsilon > 0 && c.epsilonFinal > 0, "epsilon and epsilon_final must be positive");
   require(c.beta >= 0 && c.betaFinal >= 0, "beta and beta_final must be non-negative");
   require(c.valueLossCoef >= 0, "value_loss_coef must be non-negative");

@@ -44,6 +44,16 @@ struct PpoConfig {
   double beta = 5e-3;
   /// Entropy bonus at the end of the run. 1e-5 (ML-Agents' beta schedule floor).
   double betaFinal = 1e-5;
+  /// rsl_rl's "adaptive" learning rate instead of the linear one: before every minibatch step the approximate
+  /// KL between the rollout policy and the current one moves the rate, KL > 2 desired_kl -> rate / 1.5,
+  /// KL < desired_kl / 2 -> rate x 1.5, within [adaptive_lr_min, adaptive_lr_max]; it starts at learning_rate
+  /// and carries over between iterations (checkpointed). Off (the paper's linear schedule).
+  bool adaptiveLearningRate = false;
+  /// The KL per minibatch step the adaptive rate aims at. 0.01 (rsl_rl).
+  double desiredKl = 0.01;
+  /// Bounds of the adaptive rate. 1e-6 and 1e-3 (rsl_rl: 1e-5 and 1e-2, for its base rate 1e-3).
+  double adaptiveLrMin = 1e-6;
+  double adaptiveLrMax = 1e-3;
 
   // ---- loss ----
   /// Weight of the value loss mean((V - R)^2) in policy + c * value - beta * entropy. 0.5 (ML-Agents).

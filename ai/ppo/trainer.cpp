@@ -84,6 +84,7 @@ void Trainer::initialiseFrom(const PolicyState& parent, float reinflateLogStd) {
   policy_.normalizer.adaptForBranch(kBranchNormalizerCount);
   if (!std::isnan(reinflateLogStd)) policy_.logStd = policy_.logStd.cwiseMax(reinflateLogStd);
   updater_.optimizer().reset();
+  updater_.setAdaptiveLearningRate(std::nan(""));
   iteration_ = 0;
   envSteps_ = 0;
   bestScore_ = -std::numeric_limits<double>::infinity();
@@ -194,6 +195,7 @@ void Trainer::writeCheckpoint(const std::string& path) const {
   rng << rng_;
   c.rngState = rng.str();
   c.envState = env_.saveState();
+  c.adaptiveLearningRate = updater_.adaptiveLearningRate();
   saveCheckpoint(path, c);
 }
 
@@ -212,6 +214,7 @@ void Trainer::resumeFromCheckpoint(double* wallOffset) {
   env_.loadState(c.envState);
   policy_ = std::move(c.policy);
   updater_.optimizer() = c.optimizer;
+  updater_.setAdaptiveLearningRate(c.adaptiveLearningRate);
   iteration_ = c.iteration;
   envSteps_ = c.envSteps;
   bestScore_ = c.bestScore;
@@ -336,7 +339,7 @@ void Trainer::run() {
     p.stats = stats;
     p.curriculumNote = env_.curriculumNote();
     const double iterationSeconds = secondsSince(iterationStart);
-    log << logRow(p, rollout, coefficients.learningRate, wallOffset + elapsed,
+    log << logRow(p, rollout, stats.learningRate, wallOffset + elapsed,
                   double(perIteration) / std::max(iterationSeconds, 1e-9), timing);
     log.flush();
     if (!log) throw Error(logPath + ": write failed");

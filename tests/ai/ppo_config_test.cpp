@@ -2,6 +2,7 @@
 // file:line errors, and the toToml round trip.
 #include <gtest/gtest.h>
 
+#include "ai/ppo/ppo.h"
 #include "ai/ppo/ppo_config.h"
 #include "engine/core/error.h"
 
@@ -66,6 +67,32 @@ TEST(PpoConfig, ToTomlRoundTripsEveryField) {
   EXPECT_EQ(toToml(parsePpoConfig(text, "roundtrip.toml")), text);
   EXPECT_EQ(ppoConfigHash(parsePpoConfig(text, "roundtrip.toml")), ppoConfigHash(c));
   EXPECT_NE(ppoConfigHash(c), ppoConfigHash(PpoConfig{}));
+}
+
+}  // namespace
+}  // namespace ai
+
+namespace ai {
+namespace {
+
+TEST(AdaptiveLearningRate, KlAboveTwiceTheTargetDividesByOneAndAHalfAndBelowHalfMultiplies) {
+  PpoConfig c;  // desired KL 0.01, bounds [1e-6, 1e-3]
+  EXPECT_DOUBLE_EQ(adaptLearningRate(3e-4, 0.03, c), 2e-4);     // 0.03 > 0.02
+  EXPECT_DOUBLE_EQ(adaptLearningRate(3e-4, 0.004, c), 4.5e-4);  // 0.004 < 0.005
+  EXPECT_DOUBLE_EQ(adaptLearningRate(3e-4, 0.01, c), 3e-4);     // within [0.005, 0.02]: unchanged
+  EXPECT_DOUBLE_EQ(adaptLearningRate(3e-4, 0.02, c), 3e-4);     // the band's edges stay
+  EXPECT_DOUBLE_EQ(adaptLearningRate(9e-4, 0.0, c), 1e-3);      // clamped above
+  EXPECT_DOUBLE_EQ(adaptLearningRate(1.2e-6, 1.0, c), 1e-6);    // clamped below
+}
+
+TEST(AdaptiveLearningRate, BoundsAreValidated) {
+  PpoConfig c;
+  c.adaptiveLrMin = 1e-3;
+  c.adaptiveLrMax = 1e-4;
+  EXPECT_THROW(validatePpoConfig(c, "test"), engine::Error);
+  c = PpoConfig{};
+  c.desiredKl = 0;
+  EXPECT_THROW(validatePpoConfig(c, "test"), engine::Error);
 }
 
 }  // namespace

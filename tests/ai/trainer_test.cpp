@@ -117,11 +117,12 @@ TrainerOptions shortRun(const std::string& dir) {
   return options;
 }
 
-void trainShort(const std::string& dir, const std::function<void(TrainerOptions*)>& tweak = {}) {
+void trainShort(const std::string& dir, const std::function<void(TrainerOptions*)>& tweak = {},
+                const PpoConfig& config = pendulumConfig()) {
   PendulumEnv env(16);
   TrainerOptions options = shortRun(dir);
   if (tweak) tweak(&options);
-  Trainer trainer(env, pendulumConfig(), options);
+  Trainer trainer(env, config, options);
   trainer.run();
 }
 
@@ -183,6 +184,38 @@ TEST(Trainer, ResumedRunEqualsUninterruptedRun) {
     EXPECT_EQ(deterministicColumns(engine::readFile(d + "/log.csv")), expectedLog) << d;
   }
   for (const std::string& d : {straight, crashed, stopped}) std::filesystem::remove_all(d);
+}
+
+TEST(Trainer, ResumeKeepsTheAdaptiveLearningRate) {
+  // the adaptive rate lives between iterations: a run resumed from iteration 2 must continue with the rate it
+  // had there, or its later updates (and checkpoint) differ from the uninterrupted run's
+  PpoConfig adaptive = pendulumConfig();
+  adaptive.adaptiveLearningRate = true;
+  adaptive.learningRate = 3e-4;  // inside the bounds [1e-6, 1e-3], so that the rate can move either way
+  const std::string straight = freshDir("adaptive_straight"), crashed = freshDir("adaptive_crashed");
+  trainShort(straight, {}, adaptive);
+  struct Crash {};
+  EXPECT_THROW(trainShort(crashed,
+                          [](TrainerOptions* o) {
+                            o->checkpointEvery = 2;
+                            o->onIteration = [](const TrainerProgress& p) {
+                              if (p.iteration == 3) throw Crash{};
+                            };
+                          },
+                          adaptive),
+               Crash);
+  const TrainerCheckpoint atTwo = loadCheckpoint(crashed + "/checkpoint.bin");
+  EXPECT_EQ(atTwo.iteration, 2);
+  EXPECT_NE(atTwo.adaptiveLearningRate, adaptive.learningRate);  // it moved (the pendulum's KL is not 0.01)
+  trainShort(crashed, [](TrainerOptions* o) { o->checkpointEvery = 2; o->resume = true; }, adaptive);
+  EXPECT_EQ(engine::readFile(crashed + "/checkpoint.bin"), engine::readFile(straight + "/checkpoint.bin"));
+  EXPECT_EQ(deterministicColumns(engine::readFile(crashed + "/log.csv")),
+            deterministicColumns(engine::readFile(straight + "/log.csv")));
+  // and it differs from the linear schedule's run
+  const std::string linear = freshDir("adaptive_linear");
+  trainShort(linear);
+  EXPECT_NE(engine::readFile(linear + "/checkpoint.bin"), engine::readFile(straight + "/checkpoint.bin"));
+  for (const std::string& d : {straight, crashed, linear}) std::filesystem::remove_all(d);
 }
 
 TEST(Trainer, ResumeRefusesChangedConfigOrMissingCheckpoint) {
