@@ -211,7 +211,10 @@ void Session::rulesSystem() {
   const robot::Sensors previous = sensors_;
   sensors_ = robot_->sense(physics_);
   telemetry_.distance += (sensors_.basePosition - previous.basePosition).head<2>().norm();
-  const bool down = sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt;
+  // a ground skill (prone, crawl: lying is its job) falls by its own termination: onto a side or the back
+  const bool ground = active_ && active_->def.termination.maxForwardPitchDegrees >= 0;
+  const bool down = ground ? robot::hasFallen(active_->def.termination, sensors_)
+                           : sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt;
   if (down && !down_) {
     ++telemetry_.falls;
     if (!fallen_) fallen_ = true, fallTick_ = tick_;

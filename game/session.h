@@ -27,7 +27,8 @@ namespace game {
 constexpr int kSubsteps = 5;
 constexpr double kSubstepSeconds = 0.002;
 
-/// The fall rule: the robot has fallen when the pelvis is lower than this [m] ...
+/// The fall rule: the robot has fallen when the pelvis is lower than this [m] ... (while a ground skill such as
+/// prone is active, its own termination decides instead: robot::hasFallen) ...
 constexpr double kFallPelvisHeight = 0.45;
 /// ... or the pelvis is tilted more than this from upright [rad] (about 46 degrees).
 constexpr double kFallTilt = 0.8;

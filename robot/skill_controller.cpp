@@ -44,7 +44,8 @@ void takeCommandDraw(const SkillCommand& before, bool ramp, SkillCommand* comman
 bool commandIsZero(const SkillCommand& c) { return c.vx == 0.0 && c.vy == 0.0 && c.wz == 0.0; }
 
 void PhaseClock::advance(const PriorDef& prior, const SkillCommand& command) {
-  advance(prior.halfPeriodTicks);
+  if (prior.kind == PriorDef::Kind::Keyframes) tp = std::min(tp + 1, prior.halfPeriodTicks);  // one shot: holds
+  else advance(prior.halfPeriodTicks);
   const bool stepping = prior.kind == PriorDef::Kind::Phase && !(prior.standStill && commandIsZero(command));
   const double target = stepping ? 1.0 : 0.0;
   if (prior.standRampTicks <= 0) gait = target;
@@ -98,6 +99,22 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
     for (size_t j = 0; j < size_t(kNumJoints); ++j)
       out->target[j] += lift * skill.prior.poseOffset[j] + swing * skill.prior.swingOffset[j];
   }
+  if (skill.prior.kind == PriorDef::Kind::Keyframes) {
+    // the keys before and after tp (the default pose at tick 0 before the first), eased with a half cosine
+    const std::vector<PriorDef::Keyframe>& keys = skill.prior.keyframes;
+    size_t next = 0;
+    while (next < keys.size() && keys[next].tick < tp) ++next;
+    const JointArray zero{};
+    if (next == keys.size()) {
+      for (size_t j = 0; j < size_t(kNumJoints); ++j) out->target[j] += keys.back().offset[j];
+    } else {
+      const int t0 = next == 0 ? 0 : keys[next - 1].tick;
+      const JointArray& from = next == 0 ? zero : keys[next - 1].offset;
+      const double u = double(std::max(0, tp - t0)) / double(keys[next].tick - t0);
+      const double w = 0.5 * (1.0 - std::cos(M_PI * u));
+      for (size_t j = 0; j < size_t(kNumJoints); ++j) out->target[j] += (1.0 - w) * from[j] + w * keys[next].offset[j];
+    }
+  }
   if (skill.prior.kind == PriorDef::Kind::Jump) {
     const double p = double(tp) / (2.0 * skill.prior.halfPeriodTicks);  // 0..1 through the jump cycle
     const double c = p < 0.6 ? skill.prior.crouch * 0.5 * (1.0 - std::cos(2.0 * M_PI * p / 0.6)) : 0.0;
@@ -119,7 +136,29 @@ bool atRestForSwitch(const Sensors& sensors) {
          sensors.footContact[1];
 }
 
+double forwardPitch(const Sensors& s) {
+  const Eigen::Vector3d x = s.baseRotation * Eigen::Vector3d::UnitX(), z = s.baseRotation * Eigen::Vector3d::UnitZ();
+  return std::atan2(-x.z(), z.z());
+}
+
+double sideLean(const Sensors& s) {
+  const Eigen::Vector3d y = s.baseRotation * Eigen::Vector3d::UnitY();
+  return std::asin(std::clamp(y.z(), -1.0, 1.0));
+}
+
+bool hasFallen(const TerminationDef& t, const Sensors& s) {
+  const double maxTilt = t.maxTiltDegrees * M_PI / 180.0;
+  if (s.basePosition.z() < t.minHeight) return true;
+  if (t.maxForwardPitchDegrees < 0) return std::abs(s.roll) > maxTilt || std::abs(s.pitch) > maxTilt;
+  const double pitch = forwardPitch(s);
+  return std::abs(sideLean(s)) > maxTilt || pitch < -maxTilt || pitch > t.maxForwardPitchDegrees * M_PI / 180.0;
+}
+
 void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase) {
+  if (to.kind == PriorDef::Kind::Keyframes) {
+    phase->tp = 0;
+    return;
+  }
   phase->tp = std::min(2 * to.halfPeriodTicks,
                        int(std::lround(double(phase->tp) * to.halfPeriodTicks / from.halfPeriodTicks)));
 }

@@ -45,6 +45,18 @@ void filterAction(const SkillDef& skill, const float* policyOutput, std::array<f
 void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action,
                     const PhaseClock& phase, const SkillCommand& command, PdCommand* out);
 
+// --- falls ---
+
+/// The pelvis's forward pitch from its body axes [rad]: 0 upright, +pi/2 face down (nose toward the ground),
+/// -pi/2 on its back; well defined at +-pi/2, where the ZYX Euler pitch is not.
+double forwardPitch(const Sensors& sensors);
+/// The pelvis's sideways lean [rad]: the angle of its left (y) axis above the horizontal; 0 upright and face down.
+double sideLean(const Sensors& sensors);
+/// True when the skill's termination calls this state a fall: upright skills (maxForwardPitchDegrees < 0) by
+/// |roll| or |pitch| above maxTiltDegrees or the pelvis below minHeight; ground skills by the side lean or the
+/// backward pitch above maxTiltDegrees, the forward pitch above maxForwardPitchDegrees, or the pelvis below minHeight.
+bool hasFallen(const TerminationDef& termination, const Sensors& sensors);
+
 // --- switching (the runtime's Session and the training environment's handover episodes share these) ---
 
 /// A switch fades the old skill's prior into the new one's over this many ticks (0.3 s): without it a switch
@@ -61,7 +73,8 @@ constexpr int kMaxRestWaitTicks = 150;
 bool isStillSkill(const SkillDef& skill);
 /// True when a still skill may take over (see kRestSpeed).
 bool atRestForSwitch(const Sensors& sensors);
-/// The gait counter at a switch keeps its fraction of the cycle under the new skill's period.
+/// The gait counter at a switch keeps its fraction of the cycle under the new skill's period; a keyframes prior
+/// starts its motion from the beginning (tp = 0).
 void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase);
 /// The fade after a switch: adds w (from's prior - to's prior) to out's targets (clamped to the joint limits), both
 /// priors taken at the same phase and command; w runs from 1 down to 0 over kSwitchFadeTicks.

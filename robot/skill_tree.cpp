@@ -155,14 +155,15 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
-      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late"}, where + ".prior");
+      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys"}, where + ".prior");
       const std::string type = p->get("type") && p->get("type")->value<std::string>() ? *p->get("type")->value<std::string>() : "";
       if (type == "phase") s.prior.kind = PriorDef::Kind::Phase;
       else if (type == "pose") s.prior.kind = PriorDef::Kind::Pose;
       else if (type == "jump") s.prior.kind = PriorDef::Kind::Jump;
       else if (type == "kick") s.prior.kind = PriorDef::Kind::Kick;
+      else if (type == "keyframes") s.prior.kind = PriorDef::Kind::Keyframes;
       else if (type == "none") s.prior.kind = PriorDef::Kind::None;
-      else throw Error(located(path, r.line(*p), where + ".prior.type must be \"phase\", \"pose\", \"jump\", \"kick\" or \"none\""));
+      else throw Error(located(path, r.line(*p), where + ".prior.type must be \"phase\", \"pose\", \"jump\", \"kick\", \"keyframes\" or \"none\""));
       const toml::node* offset = p->get("offset");
       const bool needsOffset = s.prior.kind == PriorDef::Kind::Pose || s.prior.kind == PriorDef::Kind::Jump ||
                                s.prior.kind == PriorDef::Kind::Kick;
@@ -188,6 +189,31 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         r.groups(*offset->as_table(), where + ".prior.offset", model, &s.prior.poseOffset, nullptr, -3, 3);
       }
       s.prior.halfPeriodTicks = int(r.number(*p, "T1", 40, 1, 1000, where + ".prior"));
+      const toml::node* keysNode = p->get("keys");
+      if ((s.prior.kind == PriorDef::Kind::Keyframes) != (keysNode != nullptr))
+        throw Error(located(path, r.line(*p), where + ".prior: a \"keyframes\" prior needs keys = [{ t = s, offset = { group = rad, ... } }, ...], and only it"));
+      if (keysNode) {
+        const toml::array* a = keysNode->as_array();
+        if (!a || a->empty()) throw Error(located(path, r.line(*keysNode), where + ".prior.keys must be a non-empty list of { t, offset }"));
+        int lastTick = 0;
+        for (const toml::node& kn : *a) {
+          const toml::table* kt = kn.as_table();
+          const std::string kw = where + ".prior.keys";
+          if (!kt) throw Error(located(path, r.line(kn), kw + ": each key must be { t = s, offset = { ... } }"));
+          r.onlyKeys(*kt, {"t", "offset"}, kw);
+          const toml::node* tn = kt->get("t");
+          const toml::node* on = kt->get("offset");
+          if (!tn || !on || !on->as_table()) throw Error(located(path, r.line(kn), kw + ": each key needs t = s and offset = { group = rad, ... }"));
+          PriorDef::Keyframe key;
+          key.tick = int(std::lround(r.number(*tn, kw + ".t", 0.01, 60) / 0.01));
+          if (key.tick <= lastTick)
+            throw Error(located(path, r.line(*tn), kw + ": times must increase (each key after the one before, the first after 0)"));
+          lastTick = key.tick;
+          r.groups(*on->as_table(), kw + ".offset", model, &key.offset, nullptr, -3.2, 3.2);
+          s.prior.keyframes.push_back(key);
+        }
+        s.prior.halfPeriodTicks = lastTick;
+      }
       s.prior.dh = r.number(*p, "dh", 0, -1.5, 1.5, where + ".prior");
       s.prior.d0 = r.number(*p, "d0", 0, -1.5, 1.5, where + ".prior");
       s.prior.stride = r.number(*p, "stride", 0, 0, 1, where + ".prior");
@@ -240,7 +266,8 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         s.rewardLines[std::string(rk.str())] = r.line(rv);
       }
     if (const toml::table* e = r.table(*t, "termination", false, where)) {
-      r.onlyKeys(*e, {"max_tilt_deg", "min_height", "episode_s"}, where + ".termination");
+      r.onlyKeys(*e, {"max_tilt_deg", "forward_pitch_deg", "min_height", "episode_s"}, where + ".termination");
+      s.termination.maxForwardPitchDegrees = r.number(*e, "forward_pitch_deg", -1, -1, 180, where + ".termination");
       s.termination.maxTiltDegrees = r.number(*e, "max_tilt_deg", 30, 1, 180, where + ".termination");
       s.termination.minHeight = r.number(*e, "min_height", 0.5, 0, 2, where + ".termination");
       s.termination.episodeSeconds = r.number(*e, "episode_s", 10, 0.1, 3600, where + ".termination");
@@ -301,17 +328,22 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       r.onlyKeys(*c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
                       "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
                       "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
-                      "kick_speed", "kick_angle_deg", "ramp", "push_speed"}, w);
+                      "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg"}, w);
       const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
-      if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick")
-        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\" or \"kick\""));
+      if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick" &&
+          type != "prone")
+        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\", \"kick\" or \"prone\""));
       CardDef& d = s.card;
       d.kind = type == "velocity" ? CardDef::Kind::Velocity
                : type == "height" ? CardDef::Kind::Height
                : type == "balance" ? CardDef::Kind::Balance
                : type == "stairs"  ? CardDef::Kind::Stairs
                : type == "jump"    ? CardDef::Kind::Jump
-                                   : CardDef::Kind::Kick;
+               : type == "kick"    ? CardDef::Kind::Kick
+                                   : CardDef::Kind::Prone;
+      d.proneSeconds = r.number(*c, "prone_s", 3, 0.01, 3600, w);
+      d.proneHeight = r.number(*c, "prone_height", 0.35, 0, 2, w);
+      d.pronePitch = r.range(*c, "prone_pitch_deg", {70, 110}, -180, 180, w);
       d.kickSpeed = r.number(*c, "kick_speed", 2.5, 0, 50, w);
       d.kickAngleDegrees = r.number(*c, "kick_angle_deg", 15, 0, 180, w);
       d.jumpHeight = r.number(*c, "jump_height", 0.10, 0, 2, w);

@@ -15,7 +15,7 @@ namespace robot {
 /// Feed-forward prior (paper §3.1): a cosine phase signal on hip/knee/ankle pitch for periodic skills, a key
 /// pose scaled by the amplitude command for aperiodic ones (squat: default pose at 0, the full pose at 1), or none.
 struct PriorDef {
-  enum class Kind { None, Phase, Pose, Jump, Kick } kind = Kind::None;
+  enum class Kind { None, Phase, Pose, Jump, Kick, Keyframes } kind = Kind::None;
   JointArray poseOffset{};   ///< Pose: joint offsets from the default pose at amplitude 1 [rad]; Jump: the crouch
   /// Jump: a 2 T1-tick cycle that sinks into `crouch` x poseOffset and back over its first 60 % (cosine), then
   /// leaves the legs at the default pose for the flight and landing; the push itself is the policy's.
@@ -28,6 +28,15 @@ struct PriorDef {
   /// second half adds the late pose (e.g. lifts the other foot). Without one: offset x a.
   JointArray lateOffset{};
   bool hasLate = false;
+  /// Keyframes: joint offsets from the default pose at given ticks after the skill starts (the first key is
+  /// the default pose at tick 0, implicitly), eased between keys with a half cosine and held after the last one.
+  /// The clock counts up to the last key's tick and stops there (halfPeriodTicks = that tick, so the phase
+  /// observation's cosine runs from 1 to -1 over the motion): a one-shot motion such as lying down.
+  struct Keyframe {
+    int tick = 0;
+    JointArray offset{};
+  };
+  std::vector<Keyframe> keyframes;
   int halfPeriodTicks = 40;  ///< T1: ticks per leg phase (gait period = 2 T1 ticks of 0.01 s)
   double dh = 0.0;           ///< stepping amplitude [rad]: hip -= A, knee += 2A, ankle -= A with A = dh u + d0
   double d0 = 0.0;           ///< base offset [rad] added to A
@@ -77,6 +86,11 @@ struct RandomisationDef {
 
 struct TerminationDef {
   double maxTiltDegrees = 30;  ///< |roll| or |pitch| beyond this ends the episode as a fall
+  /// A ground skill (lying, crawling) sets this: the pelvis may pitch forward (nose down) up to this angle
+  /// [deg], and maxTiltDegrees bounds only the side lean and the backward pitch, both measured from the body
+  /// axes (robot::forwardPitch, robot::sideLean), which stay well defined face down where Euler angles do not.
+  /// < 0: the upright check above.
+  double maxForwardPitchDegrees = -1;
   double minHeight = 0.5;      ///< pelvis below this [m] is a fall
   double episodeSeconds = 10;  ///< time limit (a truncation, not a fall)
 };
@@ -113,7 +127,10 @@ struct CardDef {
   /// jump_height above its height at the start, and no fall.
   /// Kick: success = the ball leaves at >= kick_speed within kick_angle of the target direction and the robot
   /// is still up at the end of the episode.
-  enum class Kind { None, Velocity, Height, Balance, Stairs, Jump, Kick } kind = Kind::None;
+  /// Prone: from standing, success = the torso link below prone_height with the forward pitch within
+  /// prone_pitch_deg, reached within prone_s and still so at the end of the episode, without a fall; the peak
+  /// pelvis acceleration (the impact) is reported.
+  enum class Kind { None, Velocity, Height, Balance, Stairs, Jump, Kick, Prone } kind = Kind::None;
   int episodes = 50;            ///< randomised episodes (friction, mass, pushes as in training)
   double episodeSeconds = 20;   ///< each episode's length
   double segmentSeconds = 5;    ///< a new command this often
@@ -141,6 +158,9 @@ struct CardDef {
   double kickSpeed = 2.5;       ///< Kick: ball speed [m/s] ...
   double kickAngleDegrees = 15; ///< ... within this angle of the target direction
   double standDrift = -1;       ///< bar: max drift of a standing episode [m] (<)
+  double proneSeconds = 3;      ///< Prone: lying within this time [s] ...
+  double proneHeight = 0.35;    ///< ... with the torso link's origin below this [m] ...
+  Range pronePitch{70, 110};    ///< ... and the forward pitch in this range [deg]
 };
 
 /// One skill of the tree.

@@ -167,7 +167,6 @@ bool SkillEnv::handOver(Env& e) {
   const int drive = std::max(1, int(std::lround(uniform(e.rng, skill_.handoverSeconds) / engine::kTickSeconds)));
   const bool fromRest = robot::isStillSkill(skill_) && !robot::isStillSkill(p);
   const engine::CommandLimits keys;
-  const double maxTilt = p.termination.maxTiltDegrees * M_PI / 180.0;
   Eigen::MatrixXf obs(robot::kObservationSize, 1), out;
   for (int t = 0;; ++t) {
     if (t >= drive) {
@@ -194,9 +193,7 @@ bool SkillEnv::handOver(Env& e) {
       e.world->step(game::kSubstepSeconds);
     }
     e.sensors = e.robot->sense(*e.world);
-    if (std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||
-        e.sensors.basePosition.z() < p.termination.minHeight)
-      return false;
+    if (robot::hasFallen(p.termination, e.sensors)) return false;
   }
   robot::carryPhase(p.prior, skill_.prior, &e.phase);
   e.fadeTicks = robot::kSwitchFadeTicks;
@@ -224,7 +221,6 @@ void SkillEnv::reset(uint64_t seed, Eigen::MatrixXf* observations) {
 void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
   const int n = numEnvs();
   const int maxTicks = int(std::lround(skill_.termination.episodeSeconds / engine::kTickSeconds));
-  const double maxTilt = skill_.termination.maxTiltDegrees * M_PI / 180.0;
   result->observations.resize(robot::kObservationSize, n);
   result->finalObservations.resize(robot::kObservationSize, n);
 
@@ -294,8 +290,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     }
 
     // episode end: a fall terminates, the time limit truncates
-    const bool fell = std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||
-                      e.sensors.basePosition.z() < skill_.termination.minHeight;
+    const bool fell = robot::hasFallen(skill_.termination, e.sensors);
     e.terminated = fell;
     e.truncated = !fell && e.tick >= maxTicks;
     if (e.terminated || e.truncated) {

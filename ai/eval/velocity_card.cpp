@@ -58,6 +58,13 @@ struct Episode {
   bool fellAfterChange = false;  // within 2 s of a command change (not counting the first command)
   int fallTick = -1;
   int lastPush = -1000;  // ticks the right sole has been (and was at most) lifted in one go
+  // prone: the first tick lying (torso low, pitched face down), whether it still lies at the end, and the
+  // largest pelvis acceleration (the impact)
+  int proneTick = -1;
+  bool lying = false;
+  int groundFall = -1;  // a ground skill's fall: 0 onto a side, 1 onto the back, 2 over the head, 3 too low
+  double peakAcceleration = 0;
+  Eigen::Vector3d lastVelocity = Eigen::Vector3d::Zero();
 };
 
 // what a batch does: walking episodes randomise friction, mass and pushes and resample commands; standing and
@@ -92,7 +99,9 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
   const int segment = int(std::lround(o.segmentSeconds / engine::kTickSeconds));
   const int settle = int(std::lround(o.settleSeconds / engine::kTickSeconds));
   const int pushEvery = int(std::lround(walk.randomisation.pushEverySeconds / engine::kTickSeconds));
-  const double maxTilt = walk.termination.maxTiltDegrees * M_PI / 180.0;
+  int torso = -1;  // the torso link (prone cards measure its height)
+  for (size_t l = 0; l < model.articulation.links.size(); ++l)
+    if (model.articulation.links[l].name == "torso_link") torso = int(l);
   Eigen::MatrixXf obs(robot::kObservationSize, n), act;
 
   pool.parallelFor(n, [&](int i) {
@@ -158,13 +167,19 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       e.sensors = e.robot->sense(*e.world);
       const int tick = t + 1;
       ++e.alive;
-      if (std::abs(e.sensors.roll) > maxTilt || std::abs(e.sensors.pitch) > maxTilt ||
-          e.sensors.basePosition.z() < walk.termination.minHeight) {
+      if (robot::hasFallen(walk.termination, e.sensors)) {
         e.fallen = true;
         e.fallKind = commandKind(walking ? e.target : e.command);  // what the segment asks for
         e.fellAfterPush = tick - e.lastPush <= 200;
         e.fellAfterChange = e.segmentStart > 0 && tick - e.segmentStart <= 200;
         e.fallTick = tick;
+        if (walk.termination.maxForwardPitchDegrees >= 0) {
+          const double pitch = robot::forwardPitch(e.sensors) * 180.0 / M_PI;
+          e.groundFall = e.sensors.basePosition.z() < walk.termination.minHeight             ? 3
+                         : std::abs(robot::sideLean(e.sensors)) * 180.0 / M_PI > walk.termination.maxTiltDegrees ? 0
+                         : pitch < 0                                                            ? 1
+                                                                                                : 2;
+        }
         return;
       }
       if (mode != Mode::kStanding && tick - e.segmentStart > settle) {
@@ -204,6 +219,15 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         e.bestApex = std::max(e.bestApex, e.apex - e.startHeight);
         e.flightTicks = 0;
         e.apex = 0;
+      }
+      if (o.kind == robot::CardDef::Kind::Prone) {
+        const Eigen::Vector3d v = e.sensors.baseRotation * e.sensors.linearVelocity;
+        if (tick > 1) e.peakAcceleration = std::max(e.peakAcceleration, (v - e.lastVelocity).norm() / engine::kTickSeconds);
+        e.lastVelocity = v;
+        const double pitch = robot::forwardPitch(e.sensors) * 180.0 / M_PI;
+        const double torsoHeight = torso >= 0 ? e.robot->linkPose(*e.world, torso).translation().z() : e.sensors.basePosition.z();
+        e.lying = torsoHeight < o.proneHeight && pitch >= o.pronePitch.lo && pitch <= o.pronePitch.hi;
+        if (e.lying && e.proneTick < 0) e.proneTick = tick;
       }
       const bool lifted = e.sensors.footHeight[1] >= o.liftHeight && e.sensors.footContact[0];
       e.liftRun = lifted ? e.liftRun + 1 : 0;
@@ -342,6 +366,36 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean longest lift [s]", longest, "(reported)", true});
     balanceScore = 2.0 * success / std::max(1, o.episodes) + longest / std::max(1.0, o.liftSeconds);
+  }
+  if (o.kind == robot::CardDef::Kind::Prone) {
+    int success = 0, reached = 0;
+    double seconds = 0, peak = 0, meanPeak = 0;
+    const int limit = int(std::lround(o.proneSeconds / engine::kTickSeconds));
+    for (const Episode& e : walking) {
+      const bool inTime = e.proneTick >= 0 && e.proneTick <= limit;
+      success += !e.fallen && inTime && e.lying;
+      if (e.proneTick >= 0) ++reached, seconds += e.proneTick * engine::kTickSeconds;
+      peak = std::max(peak, e.peakAcceleration);
+      meanPeak += e.peakAcceleration / std::max(1, o.episodes);
+    }
+    char name[128];
+    std::snprintf(name, sizeof name, "episodes lying (torso < %.2f m, pitch %.0f-%.0f deg) within %.1f s and at the end",
+                  o.proneHeight, o.pronePitch.lo, o.pronePitch.hi, o.proneSeconds);
+    add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
+    r.figures.push_back({"mean time to lying [s]", reached ? seconds / reached : 1e9, "(reported)", true});
+    int how[4] = {0, 0, 0, 0};
+    double fallSeconds = 0;
+    for (const Episode& e : walking)
+      if (e.fallen && e.groundFall >= 0) ++how[e.groundFall], fallSeconds += e.fallTick * engine::kTickSeconds;
+    if (upright < o.episodes) {
+      std::snprintf(name, sizeof name, "  falls: onto a side %d, onto the back %d, over the head %d; mean time %.2f s", how[0],
+                    how[1], how[2], fallSeconds / std::max(1, o.episodes - upright));
+      r.figures.push_back({name, double(o.episodes - upright), "(reported)", true});
+    }
+    r.figures.push_back({"peak impact: pelvis acceleration, mean of episodes [m/s^2]", meanPeak, "(reported)", true});
+    r.figures.push_back({"peak impact: pelvis acceleration, largest [m/s^2]", peak, "(reported)", true});
+    balanceScore = 2.0 * success / std::max(1, o.episodes) + double(reached) / std::max(1, o.episodes) -
+                   std::min(meanPeak, 500.0) / 500.0;
   }
   if (o.kind == robot::CardDef::Kind::Height) add("mean |h - h_target| (pelvis)", meanHeight, o.heightError, "m", false);
   const char* kinds[4] = {"  of which forward/backward", "  of which sideways", "  of which turning", "  of which zero command"};

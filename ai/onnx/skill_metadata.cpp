@@ -37,7 +37,11 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
                       : skill.prior.kind == robot::PriorDef::Kind::Pose ? "pose"
                       : skill.prior.kind == robot::PriorDef::Kind::Jump ? "jump"
                       : skill.prior.kind == robot::PriorDef::Kind::Kick ? "kick"
+                      : skill.prior.kind == robot::PriorDef::Kind::Keyframes ? "keyframes"
                                                                           : "none";
+  std::string keyframes;  // " keys=tick:o0,o1,...;tick:..." for a keyframes prior
+  for (const robot::PriorDef::Keyframe& k : skill.prior.keyframes)
+    keyframes += (keyframes.empty() ? " keys=" : ";") + std::to_string(k.tick) + ":" + joinNumbers(k.offset.data(), k.offset.size());
   std::ostringstream filter;
   filter.precision(9);
   filter << skill.actionFilter;
@@ -71,7 +75,7 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
                                    ? " swing=" + joinNumbers(skill.prior.swingOffset.data(), skill.prior.swingOffset.size())
                                    : "") +
                               (skill.prior.hasLate ? " late=" + joinNumbers(skill.prior.lateOffset.data(), skill.prior.lateOffset.size()) : "") +
-                              (skill.prior.crouch != 0 ? " crouch=" + std::to_string(skill.prior.crouch) : "")},
+                              (skill.prior.crouch != 0 ? " crouch=" + std::to_string(skill.prior.crouch) : "") + keyframes},
       {"treelearn.robot_hash", engine::toHex(model.hash)},
       {"treelearn.env_steps", std::to_string(envSteps)},
       {"treelearn.seed", std::to_string(seed)},

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/core/error.h"
+#include "robot/skill_controller.h"
 
 namespace ai {
 namespace {
@@ -72,6 +73,16 @@ double heightTrack(const RewardContext& c) {
   return std::exp(-e * e);
 }
 
+double pronePitch(const RewardContext& c) {
+  const double e = (robot::forwardPitch(*c.sensors) * kDeg - 90.0) / 25.0;
+  return std::exp(-e * e);
+}
+double proneHeight(const RewardContext& c) {
+  const double e = std::max(0.0, c.sensors->basePosition.z() - kPronePelvisHeight) / 0.15;
+  return std::exp(-e * e);
+}
+double sideLevel(const RewardContext& c) { return -0.05 * std::abs(robot::sideLean(*c.sensors) * kDeg); }
+
 }  // namespace
 
 const std::vector<RewardTerm>& rewardTermTable() {
@@ -91,6 +102,9 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"air_time", &airTime, "1 while neither foot touches the ground"},
       {"ball_speed", &ballSpeed, "min(3.5, max(0, v_ball . target)) / 2.5 m/s"},
       {"ball_straight", &ballStraight, "-|v_ball x target| (sideways ball speed)"},
+      {"prone_pitch", &pronePitch, "exp(-((pitch_forward - 90 deg) / 25 deg)^2): face down (robot::forwardPitch)"},
+      {"prone_height", &proneHeight, "exp(-(max(0, h - 0.12 m) / 0.15 m)^2): the pelvis down on the ground"},
+      {"side_level", &sideLevel, "-0.05 |side lean_deg| (robot::sideLean: not rolled onto a side)"},
       {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m lift) / 0.04 m)^2), lift = amplitude or a two-stage pose's late weight"},
   };
   return kTable;

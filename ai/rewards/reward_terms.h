@@ -26,6 +26,10 @@ struct RewardContext {
 /// The pelvis height of the G1 standing in its default pose (reference/g1/FACTS.md) [m].
 constexpr double kStandingPelvisHeight = 0.784;
 
+/// prone_height: the pelvis height of the G1 lying face down with its arms overhead (measured with the prone
+/// prior alone: 0.119-0.124 m) [m].
+constexpr double kPronePelvisHeight = 0.12;
+
 /// foot_lift: the right sole's target height at amplitude 1 [m] (one_leg stands on the left leg).
 constexpr double kFootLiftHeight = 0.12;
 

@@ -67,3 +67,24 @@ TEST(RewardTerms, BallTermsRewardSpeedAlongTheTargetOnly) {
   c.ball.velocity = Eigen::Vector3d(-3.0, 0.0, 0.0);  // backwards earns nothing
   EXPECT_EQ(term("ball_speed", c.get(true)), 0.0);
 }
+
+TEST(RewardTerms, ProneTermsPeakFaceDownOnTheGround) {
+  Context c;
+  // standing upright at 0.78 m: pitch 0 is 90 deg from the target, (90 / 25)^2 = 12.96; the pelvis 0.66 m above
+  // 0.12, (0.66 / 0.15)^2 = 19.36
+  c.sensors.basePosition.z() = 0.78;
+  EXPECT_NEAR(term("prone_pitch", c.get()), std::exp(-12.96), 1e-12);
+  EXPECT_NEAR(term("prone_height", c.get()), std::exp(-19.36), 1e-12);
+  EXPECT_NEAR(term("side_level", c.get()), 0.0, 1e-12);
+  // face down (pitched 90 deg about y), pelvis at 0.12 m: both 1
+  c.sensors.baseRotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+  c.sensors.basePosition.z() = 0.12;
+  EXPECT_NEAR(term("prone_pitch", c.get()), 1.0, 1e-12);
+  EXPECT_NEAR(term("prone_height", c.get()), 1.0, 1e-12);
+  c.sensors.basePosition.z() = 0.05;  // lower than lying costs nothing
+  EXPECT_NEAR(term("prone_height", c.get()), 1.0, 1e-12);
+  // face down and rolled 20 deg onto a side (about the body's long axis): -0.05 x 20
+  c.sensors.baseRotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()) *
+                           Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitZ());
+  EXPECT_NEAR(term("side_level", c.get()), -1.0, 1e-9);
+}

@@ -144,3 +144,37 @@ TEST(PosePrior, KickSwingReachesThroughTheBallPosition) {
   EXPECT_GT(reach, kick.ball.x);  // pelvis at x = 0
   EXPECT_LT(footZ, 0.22);         // below the top of the ball
 }
+
+TEST(PosePrior, ProneKeyframesAloneLieFaceDownWithinThreeSecondsWithoutAFall) {
+  // physics, zero policy output, the prone skill's gains: the keyframes alone take the G1 from standing to lying
+  // face down (the card's torso height and pitch) before 3 s, and the skill's termination never calls it a fall
+  const robot::RobotModel& model = fixtures::robotModel();
+  const robot::SkillTree& tree = shippedTree();
+  const robot::SkillDef& prone = *tree.find("prone");
+  engine::PhysicsWorld world;
+  world.addGround(1.0);
+  robot::Robot r(model, world, 0, 0, 0);
+  int torso = -1;
+  for (size_t l = 0; l < model.articulation.links.size(); ++l)
+    if (model.articulation.links[l].name == "torso_link") torso = int(l);
+  ASSERT_GE(torso, 0);
+  robot::PhaseClock clock;
+  int lyingTick = -1, fallTick = -1;
+  double pitch = 0, torsoHeight = 0;
+  for (int tick = 1; tick <= 400; ++tick) {
+    clock.advance(prone.prior, robot::SkillCommand{});
+    stepPriorOnly(prone, clock, robot::SkillCommand{}, r, world);
+    const robot::Sensors s = r.sense(world);
+    pitch = robot::forwardPitch(s) * 180.0 / M_PI;
+    torsoHeight = r.linkPose(world, torso).translation().z();
+    const bool lying = torsoHeight < prone.card.proneHeight && pitch > prone.card.pronePitch.lo && pitch < prone.card.pronePitch.hi;
+    if (lying && lyingTick < 0) lyingTick = tick;
+    if (robot::hasFallen(prone.termination, s) && fallTick < 0) fallTick = tick, std::printf("fell at %d: pitch %.0f side %.0f z %.2f\n", tick, pitch, robot::sideLean(s) * 57.3, s.basePosition.z());
+  }
+  std::printf("prone prior: lying from %.2f s; at 4 s torso %.3f m, pitch %.0f deg\n", lyingTick * 0.01, torsoHeight, pitch);
+  EXPECT_EQ(clock.tp, prone.prior.halfPeriodTicks);  // the clock stopped at the last key
+  EXPECT_GT(lyingTick, 0);
+  EXPECT_LE(lyingTick, 300);
+  EXPECT_EQ(fallTick, -1);
+  EXPECT_LT(torsoHeight, prone.card.proneHeight);
+}

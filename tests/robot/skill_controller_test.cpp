@@ -230,4 +230,87 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string rootHandover = walk + "[skill.walk.training]\nhandover = 0.5\n";  // the root has no parent
   EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
       << errorOf(rootHandover);
+  // keyframes: times must increase, keys need an offset, and only a keyframes prior takes keys
+  const std::string backwards = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nkeys = [\n  { t = 1.0, offset = { knee = 1 } },\n"
+                                       "  { t = 0.5, offset = { knee = 0 } },\n]\n";
+  EXPECT_NE(errorOf(backwards).find("t.toml:23: skill.walk.prior.keys: times must increase"), std::string::npos)
+      << errorOf(backwards);
+  const std::string noOffset = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nkeys = [{ t = 1.0 }]\n";
+  EXPECT_NE(errorOf(noOffset).find("t.toml:21: skill.walk.prior.keys: each key needs t = s and offset"), std::string::npos)
+      << errorOf(noOffset);
+  const std::string keysOnPhase = walk + "[skill.walk.prior]\ntype = \"phase\"\nkeys = [{ t = 1.0, offset = { knee = 1 } }]\n";
+  EXPECT_NE(errorOf(keysOnPhase).find("t.toml:19: skill.walk.prior: a \"keyframes\" prior needs keys"), std::string::npos)
+      << errorOf(keysOnPhase);
+}
+
+TEST(KeyframesPrior, EasesBetweenKeysAndHoldsTheLastWithTheClockStopped) {
+  robot::SkillDef skill;
+  skill.prior.kind = robot::PriorDef::Kind::Keyframes;
+  robot::PriorDef::Keyframe a, b;
+  a.tick = 100;
+  a.offset[3] = 1.0;  // left knee +1 rad at 1 s
+  b.tick = 200;
+  b.offset[3] = 0.4;  // then +0.4 at 2 s
+  b.offset[13] = -2.0;  // and the left shoulder pitch -2
+  skill.prior.keyframes = {a, b};
+  skill.prior.halfPeriodTicks = 200;
+  skill.kp.fill(10);
+  skill.kd.fill(1);
+  const std::array<float, robot::kActionSize> none{};
+  auto target = [&](int tp, size_t j) {
+    robot::PdCommand pd;
+    robot::skillPdCommand(model(), skill, none, robot::PhaseClock{tp}, robot::SkillCommand{}, &pd);
+    return pd.target[j] - model().joints[j].defaultPosition;
+  };
+  EXPECT_DOUBLE_EQ(target(0, 3), 0.0);                  // tick 0: the default pose
+  EXPECT_NEAR(target(50, 3), 0.5, 1e-12);               // half-way to the first key: (1 - cos(pi/2)) / 2 = 0.5
+  EXPECT_NEAR(target(25, 3), 0.5 * (1 - std::cos(M_PI / 4)), 1e-12);  // eased, not linear (0.146, not 0.25)
+  EXPECT_NEAR(target(100, 3), 1.0, 1e-12);              // at the key
+  EXPECT_NEAR(target(150, 3), 0.7, 1e-12);              // half-way between the keys
+  EXPECT_NEAR(target(150, 13), -1.0, 1e-12);
+  EXPECT_NEAR(target(500, 3), 0.4, 1e-12);              // after the last key: held
+  // the clock counts to the last key and stops there; a switch into the skill starts it from the beginning
+  robot::PhaseClock clock;
+  for (int i = 0; i < 300; ++i) clock.advance(skill.prior, robot::SkillCommand{});
+  EXPECT_EQ(clock.tp, 200);
+  robot::PriorDef walk;
+  walk.kind = robot::PriorDef::Kind::Phase;
+  walk.halfPeriodTicks = 40;
+  robot::PhaseClock midStep{30};
+  robot::carryPhase(walk, skill.prior, &midStep);
+  EXPECT_EQ(midStep.tp, 0);
+}
+
+TEST(Termination, GroundSkillsMayLieFaceDownButNotRollOntoTheirSideOrBack) {
+  robot::TerminationDef upright;  // 30 deg, 0.5 m
+  robot::TerminationDef ground;
+  ground.maxTiltDegrees = 45;
+  ground.maxForwardPitchDegrees = 120;
+  ground.minHeight = 0;
+  // pitch about y (nose down for positive), then a roll about the body's long (z) axis: onto a side both upright
+  // and face down
+  auto pitched = [](double pitchDeg, double rollDeg, double z) {
+    robot::Sensors s;
+    s.baseRotation = Eigen::AngleAxisd(pitchDeg * M_PI / 180, Eigen::Vector3d::UnitY()) *
+                     Eigen::AngleAxisd(rollDeg * M_PI / 180, Eigen::Vector3d::UnitZ());
+    const Eigen::Vector3d e = s.baseRotation.toRotationMatrix().eulerAngles(2, 1, 0);
+    s.yaw = e[0], s.pitch = e[1], s.roll = e[2];
+    s.basePosition = Eigen::Vector3d(0, 0, z);
+    return s;
+  };
+  EXPECT_NEAR(robot::forwardPitch(pitched(90, 0, 0.12)), M_PI / 2, 1e-9);
+  EXPECT_NEAR(robot::forwardPitch(pitched(-60, 0, 0.5)), -M_PI / 3, 1e-9);
+  EXPECT_NEAR(robot::sideLean(pitched(90, 30, 0.12)), M_PI / 6, 1e-9);  // face down, rolled 30 deg: the left side up
+  EXPECT_NEAR(robot::sideLean(pitched(0, 30, 0.7)), 0.0, 1e-9);         // upright, a turn about z is no lean
+  EXPECT_FALSE(robot::hasFallen(ground, pitched(90, 0, 0.12)));   // lying face down
+  EXPECT_FALSE(robot::hasFallen(ground, pitched(110, 10, 0.12)));
+  EXPECT_TRUE(robot::hasFallen(ground, pitched(90, 50, 0.12)));   // rolled onto a side
+  EXPECT_TRUE(robot::hasFallen(ground, pitched(-50, 0, 0.3)));    // onto its back
+  EXPECT_TRUE(robot::hasFallen(ground, pitched(130, 0, 0.2)));    // over the head
+  robot::Sensors leaning = pitched(0, 0, 0.75);  // upright skills keep the Euler check: 40 deg of roll
+  leaning.roll = 40 * M_PI / 180;
+  EXPECT_TRUE(robot::hasFallen(upright, leaning));
+  EXPECT_FALSE(robot::hasFallen(upright, pitched(20, 0, 0.75)));
+  EXPECT_TRUE(robot::hasFallen(upright, pitched(40, 0, 0.75)));
+  EXPECT_TRUE(robot::hasFallen(upright, pitched(0, 0, 0.45)));
 }
