@@ -1,6 +1,7 @@
 // switches.cpp — the skills as `play` loads them, and `treelearn eval switches`: every allowed switch (each
 // tree edge, both directions) tried at random moments and commands through the real runtime (a Session on
 // levels/flat driven by key events), with its success rate and how much the switch disturbs the motion.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -119,10 +120,24 @@ int runSwitchEval(const SwitchEvalOptions& o) {
   const game::SkillSet skills = loadSkills(model);
   const levels::Level level = levels::loadLevel(engine::projectFile("levels/flat"));
   std::vector<std::pair<const game::SkillRuntime*, const game::SkillRuntime*>> pairs;
+  // each edge down the tree (parent -> child) and each way up (child -> its parent, or -> its `up` skill: prone
+  // goes up through standup), for the skills with models
+  auto add = [&](const game::SkillRuntime* a, const game::SkillRuntime* b) {
+    if (a && b && std::find(pairs.begin(), pairs.end(), std::make_pair(a, b)) == pairs.end()) pairs.push_back({a, b});
+  };
+  std::vector<std::string> untried;
   for (const game::SkillRuntime& child : skills.skills)
     if (const game::SkillRuntime* parent = child.def.parent.empty() ? nullptr : skills.byName(child.def.parent)) {
-      pairs.push_back({parent, &child});
-      pairs.push_back({&child, parent});
+      add(parent, &child);
+      const game::SkillRuntime* up = skills.upFrom(child);
+      // a ground skill hands a lying robot only to another ground skill or to its stand-up skill
+      if (!child.def.up.empty() && !up)
+        untried.push_back(child.def.name + " -> " + child.def.up + ": no model for " + child.def.up + " yet");
+      else if (up && robot::isGroundSkill(child.def) && !robot::isGroundSkill(up->def) && up->def.name != child.def.up)
+        untried.push_back(child.def.name + " -> " + up->def.name + ": not a direct switch (lying down, it stands up " +
+                          (child.def.up.empty() ? "through a stand-up skill, which the tree does not have yet)"
+                                                : "through " + child.def.up + ", which has no model yet)"));
+      else add(&child, up);
     }
   if (pairs.empty())
     throw engine::Error("eval switches: no two connected skills have models yet (loaded: " +
@@ -157,6 +172,7 @@ int runSwitchEval(const SwitchEvalOptions& o) {
     std::printf("  %-22s %7.0f%% %9.0f   %12.1f / %-12.1f %12.3f / %-12.3f %s\n", name.c_str(), rate, latency, accA, accB,
                 tgtA, tgtB, good ? "PASS" : "FAIL");
   }
+  for (const std::string& u : untried) std::printf("  %s\n", u.c_str());
   std::printf("  worst switch latency: %.0f ticks (%.0f ms) from the key to the new skill's first control step\n",
               worstLatency, worstLatency * engine::kTickSeconds * 1000);
   std::printf("  %s (bar: >= %.0f %% success on every switch)\n", pass ? "SWITCHES PASSED" : "SWITCHES FAILED", o.barPercent);

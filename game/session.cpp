@@ -115,7 +115,11 @@ void Session::controlSystem() {
   if (wanted && wanted != active_) {
     const SkillRuntime* next = active_ ? skills_->nextHop(*active_, *wanted) : wanted;
     const bool direct = next == wanted;
-    bool ready = sensors_.tilt < kSwitchMaxTilt && (direct || tick_ - activeSince_ >= kMinHopTicks);
+    // upright skills switch when the robot is upright; a ground skill (lying down) switches as it lies, but only
+    // to another ground skill or to its way up (a stand-up skill): it cannot hand a lying robot to the walk
+    const bool ground = active_ && robot::isGroundSkill(active_->def);
+    const bool handover = !ground || !next || robot::isGroundSkill(next->def) || next->def.name == active_->def.up;
+    bool ready = handover && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks);
     if (next && ready && active_ && robot::isStillSkill(next->def) && !robot::isStillSkill(active_->def)) {
       if (restWaitTicks_ < 0) {  // start braking from the command the keys give now
         restWaitTicks_ = 0;
@@ -212,7 +216,7 @@ void Session::rulesSystem() {
   sensors_ = robot_->sense(physics_);
   telemetry_.distance += (sensors_.basePosition - previous.basePosition).head<2>().norm();
   // a ground skill (prone, crawl: lying is its job) falls by its own termination: onto a side or the back
-  const bool ground = active_ && active_->def.termination.maxForwardPitchDegrees >= 0;
+  const bool ground = active_ && robot::isGroundSkill(active_->def);
   const bool down = ground ? robot::hasFallen(active_->def.termination, sensors_)
                            : sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt;
   if (down && !down_) {

@@ -37,21 +37,25 @@ struct SkillSet {
     return nullptr;
   }
 
-  /// The first switch on the way from `from` to `to` along the tree's edges (up to their common ancestor,
-  /// then down): `to` itself when they are parent and child, nullptr when from == to or when a skill on the
-  /// way has no loaded model.
+  /// The skill a switch up the tree goes to from s: its `up` skill when the tree names one (prone -> standup),
+  /// else its parent; nullptr at the root or when that skill has no loaded model.
+  const SkillRuntime* upFrom(const SkillRuntime& s) const {
+    const std::string& name = s.def.up.empty() ? s.def.parent : s.def.up;
+    return name.empty() ? nullptr : byName(name);
+  }
+
+  /// The first switch on the way from `from` to `to`: up from `from` (parent by parent, or by a skill's `up`)
+  /// until reaching `to` or one of its ancestors, then down along the tree's edges toward `to`. `to` itself
+  /// when it is one step away, nullptr when from == to or when a skill on the way has no loaded model.
   const SkillRuntime* nextHop(const SkillRuntime& from, const SkillRuntime& to) const {
     if (&from == &to) return nullptr;
-    std::vector<std::string> up;  // from, its parent, ..., the root
-    for (const SkillRuntime* s = &from; s; s = s->def.parent.empty() ? nullptr : byName(s->def.parent)) {
-      up.push_back(s->def.name);
-      if (!s->def.parent.empty() && !byName(s->def.parent)) return nullptr;
-    }
-    // walk up from `to` until we meet from's chain; remember the child of the meeting point
+    std::vector<const SkillRuntime*> up;  // from, then each way up while the skills there are loaded
+    for (const SkillRuntime* s = &from; s && up.size() <= skills.size(); s = upFrom(*s)) up.push_back(s);
+    // walk up from `to` by parents until we meet that chain; remember the child of the meeting point
     const SkillRuntime* below = nullptr;
     for (const SkillRuntime* s = &to; s; s = s->def.parent.empty() ? nullptr : byName(s->def.parent)) {
       for (size_t i = 0; i < up.size(); ++i)
-        if (up[i] == s->def.name) return i > 0 ? byName(up[1]) : below;  // go up first, else down
+        if (up[i] == s) return i > 0 ? up[1] : below;  // go up first, else down
       below = s;
       if (!s->def.parent.empty() && !byName(s->def.parent)) return nullptr;
     }

@@ -69,6 +69,9 @@ constexpr double kRestSpeed = 0.15;
 constexpr double kRestYawRate = 0.3;
 constexpr int kMaxRestWaitTicks = 150;
 
+/// True for a ground skill (prone, crawl): its termination lets it lie face down (maxForwardPitchDegrees set).
+inline bool isGroundSkill(const SkillDef& skill) { return skill.termination.maxForwardPitchDegrees >= 0; }
+
 /// True for a skill that stands where it is: its commands have no vx, vy or wz range.
 bool isStillSkill(const SkillDef& skill);
 /// True when a still skill may take over (see kRestSpeed).

@@ -140,13 +140,18 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     const std::string where = "skill." + s.name;
     const toml::table* t = v.as_table();
     if (!t) throw Error(located(path, s.line, where + " must be a table"));
-    r.onlyKeys(*t, {"parent", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
+    r.onlyKeys(*t, {"parent", "up", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
                     "termination", "randomisation", "training", "card", "terrain", "ball"},
                where);
     if (const toml::node* p = t->get("parent")) {
       auto v2 = p->value<std::string>();
       if (!v2) throw Error(located(path, r.line(*p), where + ".parent must be a skill name (\"\" for the root)"));
       s.parent = *v2;
+    }
+    if (const toml::node* u = t->get("up")) {
+      auto v2 = u->value<std::string>();
+      if (!v2 || v2->empty()) throw Error(located(path, r.line(*u), where + ".up must be a skill name"));
+      s.up = *v2;
     }
     const toml::node* key = t->get("key");
     if (!key) throw Error(located(path, s.line, where + ": missing key"));
@@ -328,7 +333,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       r.onlyKeys(*c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
                       "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
                       "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
-                      "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg"}, w);
+                      "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg", "push_every_s"}, w);
       const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
       if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick" &&
           type != "prone")
@@ -382,6 +387,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         d.pushes = *b;
       }
       if (c->get("push_speed")) d.pushSpeed = r.range(*c, "push_speed", {}, 0, 5, w);
+      d.pushEverySeconds = r.number(*c, "push_every_s", -1, 0.1, 1000, w);
       d.standEpisodes = int(r.number(*c, "stand_episodes", 0, 0, 100000, w));
       d.standSeconds = r.number(*c, "stand_s", 10, 0.1, 3600, w);
       d.noFallPercent = r.number(*c, "no_fall_pct", -1, -1, 100, w);
@@ -396,6 +402,8 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
   for (const SkillDef& s : tree.skills) {
     if (s.parent.empty()) ++roots;
     else if (!tree.find(s.parent)) throw Error(located(path, s.line, "skill." + s.name + ": unknown parent '" + s.parent + "'"));
+    if (!s.up.empty() && (!tree.find(s.up) || s.up == s.name))
+      throw Error(located(path, s.line, "skill." + s.name + ": up = '" + s.up + "' is not another skill of the tree"));
   }
   if (roots != 1) throw Error(located(path, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
   // every chain of parents must reach the root (no cycles)

@@ -142,6 +142,8 @@ struct CardDef {
   /// the card's own push strength [m/s] (lo < 0: the randomisation's), so that training can push harder
   /// without changing the card
   Range pushSpeed{-1, -1};
+  /// the card's own push interval [s] (< 0: the randomisation's), likewise
+  double pushEverySeconds = -1;
   bool ramp = false;            ///< commands ramp at the keyboard's rates (see CommandDef::ramp)
   int standEpisodes = 0;        ///< zero-command episodes without pushes (drift)
   double standSeconds = 10;
@@ -167,6 +169,9 @@ struct CardDef {
 struct SkillDef {
   std::string name;
   std::string parent;  ///< "" for the root
+  /// The skill a request further up the tree switches to first, when that is not the parent: prone (lying)
+  /// cannot switch back to walk, so its way up is standup, and standup's way up is walk. "" = the parent.
+  std::string up;
   int key = -1;        ///< 0..9
   std::string model;   ///< ONNX file name inside assets/skills/
   PriorDef prior;

@@ -98,7 +98,8 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
   const int n = int(eps.size());
   const int segment = int(std::lround(o.segmentSeconds / engine::kTickSeconds));
   const int settle = int(std::lround(o.settleSeconds / engine::kTickSeconds));
-  const int pushEvery = int(std::lround(walk.randomisation.pushEverySeconds / engine::kTickSeconds));
+  const double pushSeconds = o.pushEverySeconds > 0 ? o.pushEverySeconds : walk.randomisation.pushEverySeconds;
+  const int pushEvery = int(std::lround(pushSeconds / engine::kTickSeconds));
   int torso = -1;  // the torso link (prone cards measure its height)
   for (size_t l = 0; l < model.articulation.links.size(); ++l)
     if (model.articulation.links[l].name == "torso_link") torso = int(l);

@@ -88,3 +88,11 @@ TEST(RewardTerms, ProneTermsPeakFaceDownOnTheGround) {
                            Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitZ());
   EXPECT_NEAR(term("side_level", c.get()), -1.0, 1e-9);
 }
+
+TEST(RewardTerms, StandStillPenalisesDriftOnlyAtAZeroCommand) {
+  Context c;
+  c.sensors.linearVelocity = Eigen::Vector3d(0.03, -0.04, 0.2);  // 0.05 m/s across the ground; vz does not count
+  EXPECT_NEAR(term("stand_still", c.get()), -0.05, 1e-12);
+  c.command.vx = 0.5;  // walking: not this term's business
+  EXPECT_EQ(term("stand_still", c.get()), 0.0);
+}

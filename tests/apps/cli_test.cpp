@@ -56,6 +56,14 @@ TEST(Cli, FlatSquareScriptStaysAlive) {
   EXPECT_NE(r.out.find("requested keys: 0"), std::string::npos) << r.out;
 }
 
+TEST(Cli, ProneScriptLiesDownWithoutAFall) {
+  // walk, stop, prone: lying face down is the prone skill's job, not a fall (its own termination judges it)
+  const CliRun r = run("play levels/flat --keys prone.keys --seconds 9 --expect alive");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("walk->prone"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("min 0.1"), std::string::npos) << r.out;  // the pelvis went down to ~0.12 m
+}
+
 TEST(Cli, BadArgumentsExitWithCodeTwo) {
   EXPECT_EQ(run("play levels/flat --bogus").code, 2);
   EXPECT_EQ(run("play levels/flat --seconds abc").code, 2);

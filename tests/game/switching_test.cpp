@@ -58,6 +58,31 @@ TEST(SkillSet, RoutesGoUpToTheCommonAncestorThenDown) {
   EXPECT_EQ(hop(s, "jump", "jump"), "-");
 }
 
+TEST(SkillSet, AGroundSkillGoesUpThroughItsUpSkill) {
+  // walk -> prone -> {crawl, standup}; prone's way up is standup (it cannot switch back to walk lying down) and
+  // standup's is walk: from crawl, key 0 runs prone, standup, then walk
+  game::SkillSet s = tree(0.0f);
+  auto add = [&](const std::string& name, const std::string& parent, const std::string& up, int key) {
+    robot::SkillDef d = s.skills.front().def;
+    d.name = name, d.parent = parent, d.up = up, d.key = key;
+    s.skills.push_back({d, s.skills.front().policy});
+  };
+  add("prone", "walk", "standup", 7);
+  add("crawl", "prone", "", 8);
+  game::SkillSet withoutStandup = s;
+  add("standup", "prone", "walk", 9);
+  EXPECT_EQ(hop(s, "crawl", "walk"), "prone");
+  EXPECT_EQ(hop(s, "prone", "walk"), "standup");
+  EXPECT_EQ(hop(s, "standup", "walk"), "walk");
+  EXPECT_EQ(hop(s, "prone", "run"), "standup");
+  EXPECT_EQ(hop(s, "walk", "crawl"), "prone");
+  EXPECT_EQ(hop(s, "prone", "crawl"), "crawl");
+  EXPECT_EQ(hop(s, "standup", "crawl"), "walk");  // standup ends standing: down again from walk
+  // without a standup model the robot stays down: no route up, but the way down still works
+  EXPECT_EQ(hop(withoutStandup, "prone", "walk"), "-");
+  EXPECT_EQ(hop(withoutStandup, "prone", "crawl"), "crawl");
+}
+
 TEST(Session, RoutedRequestSwitchesOneEdgeAtATime) {
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
   const game::SkillSet skills = tree(0.0f);
