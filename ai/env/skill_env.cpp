@@ -65,6 +65,7 @@ struct SkillEnv::Env {
   engine::BallState ballState;
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   std::array<float, robot::kObservationSize> finalObservation{};
+  Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // hold_position: where a zero command (or a push) began
 };
 
 SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
@@ -108,6 +109,7 @@ void SkillEnv::sampleCommand(Env& e) {
     e.command.amplitude = c.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
   }
   robot::takeCommandDraw(now, c.ramp, &e.command, &e.target);
+  e.anchor = e.sensors.basePosition.head<2>();
   const double stretch = c.resampleJitter > 0 ? 1.0 + c.resampleJitter * (2.0 * unit(e.rng) - 1.0) : 1.0;
   e.nextCommandTick = e.tick + std::max(1, int(std::lround(c.resampleSeconds * stretch / engine::kTickSeconds)));
 }
@@ -263,7 +265,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
 
     // reward
     RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_,
-                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection};
+                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor};
     double reward = 0;
     for (size_t k = 0; k < terms_.size(); ++k) {
       const double v = terms_[k].weight * terms_[k].term->value(ctx);
@@ -283,6 +285,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       s.baseLinearVelocity += Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0) * speed;
       e.world->setState(e.robot->id(), s);
       e.nextPushTick = e.tick + int(std::lround(skill_.randomisation.pushEverySeconds / engine::kTickSeconds));
+      e.anchor = e.sensors.basePosition.head<2>();  // a push moves the robot: hold where it is pushed from
     }
     if (e.tick >= e.nextCommandTick) {
       sampleCommand(e);

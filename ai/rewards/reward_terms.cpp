@@ -77,6 +77,10 @@ double standStill(const RewardContext& c) {
   if (!robot::commandIsZero(*c.command)) return 0.0;
   return -c.sensors->linearVelocity.head<2>().norm();
 }
+double holdPosition(const RewardContext& c) {
+  if (!c.anchor || !robot::commandIsZero(*c.command)) return 0.0;
+  return -(c.sensors->basePosition.head<2>() - *c.anchor).norm();
+}
 double pronePitch(const RewardContext& c) {
   const double e = (robot::forwardPitch(*c.sensors) * kDeg - 90.0) / 25.0;
   return std::exp(-e * e);
@@ -107,6 +111,7 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"ball_speed", &ballSpeed, "min(3.5, max(0, v_ball . target)) / 2.5 m/s"},
       {"ball_straight", &ballStraight, "-|v_ball x target| (sideways ball speed)"},
       {"stand_still", &standStill, "-|v_xy| while the command is zero (pelvis frame; stepping in place must not drift)"},
+      {"hold_position", &holdPosition, "-|p_xy - anchor| while the command is zero (anchor: the pelvis when the zero command began or the last push came)"},
       {"prone_pitch", &pronePitch, "exp(-((pitch_forward - 90 deg) / 25 deg)^2): face down (robot::forwardPitch)"},
       {"prone_height", &proneHeight, "exp(-(max(0, h - 0.12 m) / 0.15 m)^2): the pelvis down on the ground"},
       {"side_level", &sideLevel, "-0.05 |side lean_deg| (robot::sideLean: not rolled onto a side)"},

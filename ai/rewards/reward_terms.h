@@ -21,6 +21,9 @@ struct RewardContext {
   const robot::SkillDef* skill = nullptr;                                  ///< the skill being trained
   const engine::BallState* ball = nullptr;  ///< the kick's ball, if the skill has one
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();  ///< where the ball should go (world unit vector)
+  /// where the pelvis was (world x, y) when the current zero command began or the last push ended; nullptr while
+  /// the command is not zero or the environment does not track it
+  const Eigen::Vector2d* anchor = nullptr;
 };
 
 /// The pelvis height of the G1 standing in its default pose (reference/g1/FACTS.md) [m].

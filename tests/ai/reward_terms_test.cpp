@@ -96,3 +96,15 @@ TEST(RewardTerms, StandStillPenalisesDriftOnlyAtAZeroCommand) {
   c.command.vx = 0.5;  // walking: not this term's business
   EXPECT_EQ(term("stand_still", c.get()), 0.0);
 }
+
+TEST(RewardTerms, HoldPositionPenalisesTheDistanceFromTheAnchorAtAZeroCommand) {
+  Context c;
+  const Eigen::Vector2d anchor(1.0, 2.0);
+  c.sensors.basePosition = Eigen::Vector3d(1.3, 2.4, 0.78);  // 0.3, 0.4 away: 0.5 m
+  ai::RewardContext ctx = c.get();
+  EXPECT_EQ(term("hold_position", ctx), 0.0);  // no anchor tracked
+  ctx.anchor = &anchor;
+  EXPECT_NEAR(term("hold_position", ctx), -0.5, 1e-12);
+  c.command.wz = 0.5;  // turning: not held
+  EXPECT_EQ(term("hold_position", ctx), 0.0);
+}
