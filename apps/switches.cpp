@@ -133,7 +133,7 @@ int runSwitchEval(const SwitchEvalOptions& o) {
       // a ground skill hands a lying robot only to another ground skill or to its stand-up skill
       if (!child.def.up.empty() && !up)
         untried.push_back(child.def.name + " -> " + child.def.up + ": no model for " + child.def.up + " yet");
-      else if (up && robot::isGroundSkill(child.def) && !robot::isGroundSkill(up->def) && up->def.name != child.def.up)
+      else if (up && !robot::mayHandOver(child.def, up->def))
         untried.push_back(child.def.name + " -> " + up->def.name + ": not a direct switch (lying down, it stands up " +
                           (child.def.up.empty() ? "through a stand-up skill, which the tree does not have yet)"
                                                 : "through " + child.def.up + ", which has no model yet)"));

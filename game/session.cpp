@@ -118,8 +118,8 @@ void Session::controlSystem() {
     // upright skills switch when the robot is upright; a ground skill (lying down) switches as it lies, but only
     // to another ground skill or to its way up (a stand-up skill): it cannot hand a lying robot to the walk
     const bool ground = active_ && robot::isGroundSkill(active_->def);
-    const bool handover = !ground || !next || robot::isGroundSkill(next->def) || next->def.name == active_->def.up;
-    bool ready = handover && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks);
+    const bool handsOver = !active_ || !next || robot::mayHandOver(active_->def, next->def);
+    bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks);
     if (next && ready && active_ && robot::isStillSkill(next->def) && !robot::isStillSkill(active_->def)) {
       if (restWaitTicks_ < 0) {  // start braking from the command the keys give now
         restWaitTicks_ = 0;

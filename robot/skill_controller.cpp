@@ -146,12 +146,20 @@ double sideLean(const Sensors& s) {
   return std::asin(std::clamp(y.z(), -1.0, 1.0));
 }
 
-bool hasFallen(const TerminationDef& t, const Sensors& s) {
+FallCause fallCause(const TerminationDef& t, const Sensors& s) {
   const double maxTilt = t.maxTiltDegrees * M_PI / 180.0;
-  if (s.basePosition.z() < t.minHeight) return true;
-  if (t.maxForwardPitchDegrees < 0) return std::abs(s.roll) > maxTilt || std::abs(s.pitch) > maxTilt;
+  if (s.basePosition.z() < t.minHeight) return FallCause::Low;
+  if (t.maxForwardPitchDegrees < 0)
+    return std::abs(s.roll) > maxTilt || std::abs(s.pitch) > maxTilt ? FallCause::Tilt : FallCause::None;
   const double pitch = forwardPitch(s);
-  return std::abs(sideLean(s)) > maxTilt || pitch < -maxTilt || pitch > t.maxForwardPitchDegrees * M_PI / 180.0;
+  if (std::abs(sideLean(s)) > maxTilt) return FallCause::Side;
+  if (pitch < -maxTilt) return FallCause::Back;
+  if (pitch > t.maxForwardPitchDegrees * M_PI / 180.0) return FallCause::OverHead;
+  return FallCause::None;
+}
+
+bool mayHandOver(const SkillDef& from, const SkillDef& to) {
+  return !isGroundSkill(from) || isGroundSkill(to) || to.name == from.up;
 }
 
 void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase) {

@@ -52,10 +52,15 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
 double forwardPitch(const Sensors& sensors);
 /// The pelvis's sideways lean [rad]: the angle of its left (y) axis above the horizontal; 0 upright and face down.
 double sideLean(const Sensors& sensors);
-/// True when the skill's termination calls this state a fall: upright skills (maxForwardPitchDegrees < 0) by
-/// |roll| or |pitch| above maxTiltDegrees or the pelvis below minHeight; ground skills by the side lean or the
-/// backward pitch above maxTiltDegrees, the forward pitch above maxForwardPitchDegrees, or the pelvis below minHeight.
-bool hasFallen(const TerminationDef& termination, const Sensors& sensors);
+/// Why the skill's termination calls this state a fall (None: it does not). Upright skills
+/// (maxForwardPitchDegrees < 0): the pelvis below minHeight (Low), or |roll| or |pitch| above maxTiltDegrees
+/// (Tilt). Ground skills: Low, the side lean above maxTiltDegrees (Side), the backward pitch above it (Back), or
+/// the forward pitch above maxForwardPitchDegrees (OverHead).
+enum class FallCause { None, Low, Tilt, Side, Back, OverHead };
+FallCause fallCause(const TerminationDef& termination, const Sensors& sensors);
+inline bool hasFallen(const TerminationDef& termination, const Sensors& sensors) {
+  return fallCause(termination, sensors) != FallCause::None;
+}
 
 // --- switching (the runtime's Session and the training environment's handover episodes share these) ---
 
@@ -71,6 +76,10 @@ constexpr int kMaxRestWaitTicks = 150;
 
 /// True for a ground skill (prone, crawl): its termination lets it lie face down (maxForwardPitchDegrees set).
 inline bool isGroundSkill(const SkillDef& skill) { return skill.termination.maxForwardPitchDegrees >= 0; }
+
+/// True when `from` may hand the robot over to `to`: always for an upright `from`; a ground skill hands a lying
+/// robot only to another ground skill or to its `up` skill (a stand-up), never straight to an upright skill.
+bool mayHandOver(const SkillDef& from, const SkillDef& to);
 
 /// True for a skill that stands where it is: its commands have no vx, vy or wz range.
 bool isStillSkill(const SkillDef& skill);

@@ -62,7 +62,7 @@ struct Episode {
   // largest pelvis acceleration (the impact)
   int proneTick = -1;
   bool lying = false;
-  int groundFall = -1;  // a ground skill's fall: 0 onto a side, 1 onto the back, 2 over the head, 3 too low
+  robot::FallCause fallCause = robot::FallCause::None;
   double peakAcceleration = 0;
   Eigen::Vector3d lastVelocity = Eigen::Vector3d::Zero();
 };
@@ -100,9 +100,6 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
   const int settle = int(std::lround(o.settleSeconds / engine::kTickSeconds));
   const double pushSeconds = o.pushEverySeconds > 0 ? o.pushEverySeconds : walk.randomisation.pushEverySeconds;
   const int pushEvery = int(std::lround(pushSeconds / engine::kTickSeconds));
-  int torso = -1;  // the torso link (prone cards measure its height)
-  for (size_t l = 0; l < model.articulation.links.size(); ++l)
-    if (model.articulation.links[l].name == "torso_link") torso = int(l);
   Eigen::MatrixXf obs(robot::kObservationSize, n), act;
 
   pool.parallelFor(n, [&](int i) {
@@ -168,19 +165,13 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       e.sensors = e.robot->sense(*e.world);
       const int tick = t + 1;
       ++e.alive;
-      if (robot::hasFallen(walk.termination, e.sensors)) {
+      if (robot::fallCause(walk.termination, e.sensors) != robot::FallCause::None) {
         e.fallen = true;
         e.fallKind = commandKind(walking ? e.target : e.command);  // what the segment asks for
         e.fellAfterPush = tick - e.lastPush <= 200;
         e.fellAfterChange = e.segmentStart > 0 && tick - e.segmentStart <= 200;
         e.fallTick = tick;
-        if (walk.termination.maxForwardPitchDegrees >= 0) {
-          const double pitch = robot::forwardPitch(e.sensors) * 180.0 / M_PI;
-          e.groundFall = e.sensors.basePosition.z() < walk.termination.minHeight             ? 3
-                         : std::abs(robot::sideLean(e.sensors)) * 180.0 / M_PI > walk.termination.maxTiltDegrees ? 0
-                         : pitch < 0                                                            ? 1
-                                                                                                : 2;
-        }
+        e.fallCause = robot::fallCause(walk.termination, e.sensors);
         return;
       }
       if (mode != Mode::kStanding && tick - e.segmentStart > settle) {
@@ -226,7 +217,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         if (tick > 1) e.peakAcceleration = std::max(e.peakAcceleration, (v - e.lastVelocity).norm() / engine::kTickSeconds);
         e.lastVelocity = v;
         const double pitch = robot::forwardPitch(e.sensors) * 180.0 / M_PI;
-        const double torsoHeight = torso >= 0 ? e.robot->linkPose(*e.world, torso).translation().z() : e.sensors.basePosition.z();
+        const double torsoHeight = e.robot->linkPose(*e.world, model.torso).translation().z();
         e.lying = torsoHeight < o.proneHeight && pitch >= o.pronePitch.lo && pitch <= o.pronePitch.hi;
         if (e.lying && e.proneTick < 0) e.proneTick = tick;
       }
@@ -384,13 +375,18 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
                   o.proneHeight, o.pronePitch.lo, o.pronePitch.hi, o.proneSeconds);
     add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean time to lying [s]", reached ? seconds / reached : 1e9, "(reported)", true});
-    int how[4] = {0, 0, 0, 0};
+    int side = 0, back = 0, over = 0;
     double fallSeconds = 0;
-    for (const Episode& e : walking)
-      if (e.fallen && e.groundFall >= 0) ++how[e.groundFall], fallSeconds += e.fallTick * engine::kTickSeconds;
+    for (const Episode& e : walking) {
+      if (!e.fallen) continue;
+      side += e.fallCause == robot::FallCause::Side;
+      back += e.fallCause == robot::FallCause::Back;
+      over += e.fallCause == robot::FallCause::OverHead;
+      fallSeconds += e.fallTick * engine::kTickSeconds;
+    }
     if (upright < o.episodes) {
-      std::snprintf(name, sizeof name, "  falls: onto a side %d, onto the back %d, over the head %d; mean time %.2f s", how[0],
-                    how[1], how[2], fallSeconds / std::max(1, o.episodes - upright));
+      std::snprintf(name, sizeof name, "  falls: onto a side %d, onto the back %d, over the head %d; mean time %.2f s", side,
+                    back, over, fallSeconds / std::max(1, o.episodes - upright));
       r.figures.push_back({name, double(o.episodes - upright), "(reported)", true});
     }
     r.figures.push_back({"peak impact: pelvis acceleration, mean of episodes [m/s^2]", meanPeak, "(reported)", true});

@@ -154,10 +154,6 @@ TEST(PosePrior, ProneKeyframesAloneLieFaceDownWithinThreeSecondsWithoutAFall) {
   engine::PhysicsWorld world;
   world.addGround(1.0);
   robot::Robot r(model, world, 0, 0, 0);
-  int torso = -1;
-  for (size_t l = 0; l < model.articulation.links.size(); ++l)
-    if (model.articulation.links[l].name == "torso_link") torso = int(l);
-  ASSERT_GE(torso, 0);
   robot::PhaseClock clock;
   int lyingTick = -1, fallTick = -1;
   double pitch = 0, torsoHeight = 0;
@@ -166,7 +162,7 @@ TEST(PosePrior, ProneKeyframesAloneLieFaceDownWithinThreeSecondsWithoutAFall) {
     stepPriorOnly(prone, clock, robot::SkillCommand{}, r, world);
     const robot::Sensors s = r.sense(world);
     pitch = robot::forwardPitch(s) * 180.0 / M_PI;
-    torsoHeight = r.linkPose(world, torso).translation().z();
+    torsoHeight = r.linkPose(world, model.torso).translation().z();
     const bool lying = torsoHeight < prone.card.proneHeight && pitch > prone.card.pronePitch.lo && pitch < prone.card.pronePitch.hi;
     if (lying && lyingTick < 0) lyingTick = tick;
     if (robot::hasFallen(prone.termination, s) && fallTick < 0) fallTick = tick, std::printf("fell at %d: pitch %.0f side %.0f z %.2f\n", tick, pitch, robot::sideLean(s) * 57.3, s.basePosition.z());
