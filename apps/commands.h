@@ -48,6 +48,7 @@ struct EvalOptions {
   uint64_t seed = 1;
   int threads = 2;
   bool sweep = false;  ///< print achieved against commanded speeds instead of the card
+  bool verbose = false;  ///< switches: list every failed trial
 };
 
 /// `treelearn eval switches` options.
@@ -56,6 +57,7 @@ struct SwitchEvalOptions {
   uint64_t seed = 1;
   int threads = 2;
   double barPercent = 95.0;  ///< success needed on every pair
+  bool verbose = false;      ///< list every failed trial (keys, moment, latency, when it fell)
 };
 
 /// Runs every allowed switch (tree edges, both directions) and prints the report; exit 0 when all pass.

@@ -345,6 +345,7 @@ int main(int argc, char** argv) {
   evalCmd->add_option("--seed", eval.seed, "Seed (default 1)");
   evalCmd->add_option("--threads", eval.threads, "Threads")->check(CLI::Range(1, 64));
   evalCmd->add_flag("--sweep", eval.sweep, "Walk: hold fixed commands and print achieved against commanded speeds");
+  evalCmd->add_flag("--verbose", eval.verbose, "Switches: list every failed trial (keys, moment, latency, time of the fall)");
 
   try {
     app.parse(argc, argv);
@@ -362,6 +363,7 @@ int main(int argc, char** argv) {
       if (eval.episodes > 0) sw.trials = eval.episodes;
       sw.seed = eval.seed;
       sw.threads = eval.threads;
+      sw.verbose = eval.verbose;
       return apps::runSwitchEval(sw);
     }
     if (*evalCmd && eval.skill == "all") return apps::runEvalAll(eval);

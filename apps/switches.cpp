@@ -60,6 +60,8 @@ struct Trial {
   double accelAround = 0, accelBefore = 0;   // peak |d v_CoM / dt| [m/s^2] around the switch / 1 s earlier
   double targetAround = 0, targetBefore = 0;  // peak per-tick joint-target change [rad]
   double latencyTicks = -1;                   // key tick -> tick the new skill first acts
+  char keyBefore = 0, keyAfter = 0;           // the movement keys held before and after the switch (0: none)
+  int64_t switchTick = 0, fallTick = -1;      // the switch key's tick; the tick the robot was down (-1: never)
 };
 
 constexpr double kWindowSeconds = 0.2;  // the window around the switch (and the earlier reference window)
@@ -78,6 +80,7 @@ Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const
 
   game::Session s(level, model, game::SessionOptions{seed, &skills});
   Trial t;
+  t.keyBefore = keyA, t.keyAfter = keyB, t.switchTick = switchTick;
   Eigen::Vector3d lastCom = s.sensors().centreOfMass, lastVel = Eigen::Vector3d::Zero();
   robot::JointArray lastTarget = s.robot().command().target;
   for (int64_t tick = 0; tick < endTick && !s.fallen(); ++tick) {
@@ -110,6 +113,7 @@ Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const
   }
   t.switched = t.latencyTicks >= 0;
   t.upright = !s.fallen();
+  if (!t.upright) t.fallTick = s.tick();
   return t;
 }
 
@@ -171,6 +175,18 @@ int runSwitchEval(const SwitchEvalOptions& o) {
     const std::string name = pairs[p].first->def.name + " -> " + pairs[p].second->def.name;
     std::printf("  %-22s %7.0f%% %9.0f   %12.1f / %-12.1f %12.3f / %-12.3f %s\n", name.c_str(), rate, latency, accA, accB,
                 tgtA, tgtB, good ? "PASS" : "FAIL");
+    if (o.verbose)
+      for (size_t i = 0; i < trials.size(); ++i) {
+        const Trial& t = trials[i];
+        if (t.switched && t.upright) continue;
+        auto key = [](char k) { return k ? std::string(1, k) : std::string("none"); };
+        char fate[64];
+        if (t.upright) std::snprintf(fate, sizeof fate, "never switched");
+        else std::snprintf(fate, sizeof fate, "fell %.2f s after the key", double(t.fallTick - t.switchTick) * engine::kTickSeconds);
+        std::printf("      trial %zu: key %s before, %s after, switch key at %.2f s, latency %.0f ticks, %s\n", i,
+                    key(t.keyBefore).c_str(), key(t.keyAfter).c_str(), double(t.switchTick) * engine::kTickSeconds,
+                    t.latencyTicks, fate);
+      }
   }
   for (const std::string& u : untried) std::printf("  %s\n", u.c_str());
   std::printf("  worst switch latency: %.0f ticks (%.0f ms) from the key to the new skill's first control step\n",

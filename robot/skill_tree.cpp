@@ -141,7 +141,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     const toml::table* t = v.as_table();
     if (!t) throw Error(located(path, s.line, where + " must be a table"));
     r.onlyKeys(*t, {"parent", "up", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
-                    "termination", "randomisation", "training", "card", "terrain", "ball"},
+                    "termination", "randomisation", "training", "card", "terrain", "curriculum", "ball"},
                where);
     if (const toml::node* p = t->get("parent")) {
       auto v2 = p->value<std::string>();
@@ -327,6 +327,41 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       }
       if (d.kind == TerrainDef::Kind::Stairs && d.lessons.empty())
         throw Error(located(path, r.line(*tt), w + ": stairs need lessons = [step heights]"));
+    }
+    if (const toml::table* ct = r.table(*t, "curriculum", false, where)) {
+      const std::string w = where + ".curriculum";
+      r.onlyKeys(*ct, {"vx_max", "T1", "stride", "advance_at"}, w);
+      CurriculumDef& d = s.curriculum;
+      d.advanceAt = r.number(*ct, "advance_at", 1.0, -1e3, 1e3, w);
+      auto list = [&](const char* key, double lo, double hi, std::vector<double>* out) {
+        const toml::node* l = ct->get(key);
+        if (!l) return;
+        const toml::array* a = l->as_array();
+        if (!a || a->empty()) throw Error(located(path, r.line(*l), w + "." + key + " must be a non-empty list of numbers"));
+        for (const toml::node& v : *a) out->push_back(r.number(v, w + "." + key, lo, hi));
+      };
+      std::vector<double> t1;
+      list("vx_max", 0.01, 10, &d.vxMax);
+      list("T1", 1, 1000, &t1);
+      list("stride", 0, 1, &d.stride);
+      for (double v : t1) d.halfPeriodTicks.push_back(int(std::lround(v)));
+      const int line = r.line(*ct);
+      if (d.vxMax.empty()) throw Error(located(path, line, w + " needs vx_max = [the forward command's top, per lesson]"));
+      if ((!t1.empty() && t1.size() != d.vxMax.size()) || (!d.stride.empty() && d.stride.size() != d.vxMax.size()))
+        throw Error(located(path, line, w + ": T1 and stride need one value per lesson, as vx_max has (" +
+                                            std::to_string(d.vxMax.size()) + ")"));
+      if (!s.terrain.lessons.empty())
+        throw Error(located(path, line, w + ": a skill has terrain lessons or a command curriculum, not both"));
+      // the last lesson is what the skill ships with: it must be the tree entry's own command range and prior
+      if (std::abs(d.vxMax.back() - s.commands.vx.hi) > 1e-9)
+        throw Error(located(path, line, w + ".vx_max must end at the commands' vx top (" + std::to_string(s.commands.vx.hi) + ")"));
+      for (double v : d.vxMax)
+        if (v <= s.commands.vx.lo)
+          throw Error(located(path, line, w + ".vx_max: every lesson's top must be above the commands' vx bottom"));
+      if (!d.halfPeriodTicks.empty() && d.halfPeriodTicks.back() != s.prior.halfPeriodTicks)
+        throw Error(located(path, line, w + ".T1 must end at the prior's T1 (" + std::to_string(s.prior.halfPeriodTicks) + ")"));
+      if (!d.stride.empty() && std::abs(d.stride.back() - s.prior.stride) > 1e-9)
+        throw Error(located(path, line, w + ".stride must end at the prior's stride (" + std::to_string(s.prior.stride) + ")"));
     }
     if (const toml::table* c = r.table(*t, "card", false, where)) {
       const std::string w = where + ".card";

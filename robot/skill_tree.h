@@ -109,6 +109,17 @@ struct TerrainDef {
   double advanceAt = 1.0;       ///< smoothed reward per step that moves training to the next lesson
 };
 
+/// A command curriculum (run): lesson i caps the forward command at vx_max[i] and, where given, sets the gait's
+/// half period T1[i] and the stride prior's gain stride[i]. The last lesson is the skill's own (the tree checks
+/// that they agree), so the shipped model runs as it was last trained. Lessons advance as the terrain's do
+/// (advance_at); a skill has either terrain lessons or a command curriculum.
+struct CurriculumDef {
+  std::vector<double> vxMax;          ///< [m/s], one per lesson (empty: no command curriculum)
+  std::vector<int> halfPeriodTicks;   ///< T1 per lesson (empty: the prior's)
+  std::vector<double> stride;         ///< stride gain per lesson (empty: the prior's)
+  double advanceAt = 1.0;             ///< smoothed return per time-limit step that moves to the next lesson
+};
+
 /// A ball placed in front of the robot at every episode start (kick): offset from the pelvis in the heading
 /// frame (x forward, y left), plus a uniform jitter; the target direction is the heading at the start.
 struct BallTaskDef {
@@ -194,6 +205,7 @@ struct SkillDef {
   Range handoverSeconds{1.0, 3.0};
   CardDef card;
   TerrainDef terrain;
+  CurriculumDef curriculum;
   BallTaskDef ball;
   int line = 0;  ///< where it is defined
 };

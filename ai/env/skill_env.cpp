@@ -3,6 +3,7 @@
 
 #include "engine/input/command.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -70,7 +71,7 @@ struct SkillEnv::Env {
 
 SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
                    const SkillEnvOptions& options)
-    : model_(model), skill_(skill), terms_(resolveRewardTerms(skill, treePath)), options_(options),
+    : model_(model), skill_(skill), treeSkill_(skill), terms_(resolveRewardTerms(skill, treePath)), options_(options),
       pool_(options.threads) {
   if (skill_.handover > 0) {
     if (!options_.parent || !options_.parentPolicy)
@@ -82,6 +83,24 @@ SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill,
     envs_.back()->model = model_;
     envs_.back()->termSums.assign(terms_.size(), 0.0);
   }
+  applyLesson();
+}
+
+int SkillEnv::lessonCount() const {
+  return int(std::max(treeSkill_.terrain.lessons.size(), treeSkill_.curriculum.vxMax.size()));
+}
+
+double SkillEnv::advanceAt() const {
+  return treeSkill_.curriculum.vxMax.empty() ? treeSkill_.terrain.advanceAt : treeSkill_.curriculum.advanceAt;
+}
+
+void SkillEnv::applyLesson() {
+  const robot::CurriculumDef& c = treeSkill_.curriculum;
+  if (c.vxMax.empty()) return;
+  const size_t l = size_t(std::clamp(lesson_, 0, int(c.vxMax.size()) - 1));
+  skill_.commands.vx.hi = c.vxMax[l];
+  if (!c.halfPeriodTicks.empty()) skill_.prior.halfPeriodTicks = c.halfPeriodTicks[l];
+  if (!c.stride.empty()) skill_.prior.stride = c.stride[l];
 }
 
 SkillEnv::~SkillEnv() = default;
@@ -325,14 +344,14 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       result->episodeLengths.push_back(e.finishedLength);
       // curriculum, in environment order so that it does not depend on threads: only episodes played on the
       // current lesson count, and a lesson needs one episode per environment before it can pass
-      const std::vector<double>& lessons = skill_.terrain.lessons;
-      if (e.finishedLesson == lesson_ && lesson_ + 1 < int(lessons.size())) {
+      if (e.finishedLesson == lesson_ && lesson_ + 1 < lessonCount()) {
         const double value = e.finishedReturn / double(maxTicks);
         smoothed_ = lessonEpisodes_ > 0 ? 0.98 * smoothed_ + 0.02 * value : value;
         ++lessonEpisodes_;
-        if (smoothed_ > skill_.terrain.advanceAt && lessonEpisodes_ >= n) {
+        if (smoothed_ > advanceAt() && lessonEpisodes_ >= n) {
           ++lesson_;
           lessonEpisodes_ = 0;
+          applyLesson();  // episodes under way finish under the new lesson's commands and gait
         }
       }
     }
@@ -346,11 +365,16 @@ double SkillEnv::stepHeight() const {
 }
 
 std::string SkillEnv::curriculumNote() const {
-  if (skill_.terrain.lessons.empty()) return {};
-  char buf[128];
-  std::snprintf(buf, sizeof buf, "lesson %d/%zu (steps %.2f m; smoothed return per step %.2f of %.2f over %d episodes)",
-                lesson_ + 1, skill_.terrain.lessons.size(), stepHeight(), lessonEpisodes_ ? smoothed_ : 0.0,
-                skill_.terrain.advanceAt, lessonEpisodes_);
+  if (lessonCount() == 0) return {};
+  char what[96];
+  if (!treeSkill_.curriculum.vxMax.empty())
+    std::snprintf(what, sizeof what, "forward commands up to %.2f m/s, T1 %d, stride %.2f", skill_.commands.vx.hi,
+                  skill_.prior.halfPeriodTicks, skill_.prior.stride);
+  else
+    std::snprintf(what, sizeof what, "steps %.2f m", stepHeight());
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "lesson %d/%d (%s; smoothed return per step %.2f of %.2f over %d episodes)",
+                lesson_ + 1, lessonCount(), what, lessonEpisodes_ ? smoothed_ : 0.0, advanceAt(), lessonEpisodes_);
   return buf;
 }
 
@@ -368,8 +392,9 @@ void SkillEnv::loadState(const std::string& bytes) {
   std::memcpy(&lesson_, bytes.data(), sizeof(int));
   std::memcpy(&lessonEpisodes_, bytes.data() + sizeof(int), sizeof(int));
   std::memcpy(&smoothed_, bytes.data() + 2 * sizeof(int), sizeof(double));
-  if (lesson_ < 0 || (lesson_ > 0 && lesson_ >= int(skill_.terrain.lessons.size())))
+  if (lesson_ < 0 || (lesson_ > 0 && lesson_ >= lessonCount()))
     throw engine::Error("skill env state: lesson " + std::to_string(lesson_) + " does not exist");
+  applyLesson();
 }
 
 }  // namespace ai

@@ -48,14 +48,17 @@ class SkillEnv final : public VecEnv {
   /// Seconds spent inside physics (substeps) during step() calls so far, summed over threads.
   double physicsSeconds() const;
 
-  /// Curriculum (terrain lessons): the lesson moves on when the smoothed episode return per time-limit step
-  /// (falls count as zero for the rest of the episode) passes the terrain's advance_at.
+  /// Curriculum (terrain lessons, or a command curriculum: robot::CurriculumDef): the lesson moves on when the
+  /// smoothed episode return per time-limit step (falls count as zero for the rest of the episode) passes the
+  /// curriculum's advance_at.
   int curriculumLesson() const override { return lesson_; }
   std::string curriculumNote() const override;
   std::string saveState() const override;
   void loadState(const std::string& bytes) override;
   /// The step height of the current lesson (0 on flat terrain).
   double stepHeight() const;
+  /// The skill as the current lesson trains it (a command curriculum's forward top, T1 and stride applied).
+  const robot::SkillDef& lessonSkill() const { return skill_; }
 
  private:
   struct Env;
@@ -63,9 +66,13 @@ class SkillEnv final : public VecEnv {
   bool handOver(Env& e);
   void sampleCommand(Env& e);
   void observe(const Env& e, float* out) const;
+  int lessonCount() const;
+  double advanceAt() const;
+  void applyLesson();  // a command curriculum's values for lesson_ into skill_
 
   robot::RobotModel model_;
-  robot::SkillDef skill_;
+  robot::SkillDef skill_;      // the tree entry with the current lesson applied (see applyLesson)
+  robot::SkillDef treeSkill_;  // the tree entry as written
   robot::SkillDef parent_;  // handover episodes only
   std::vector<WeightedTerm> terms_;
   SkillEnvOptions options_;

@@ -119,6 +119,39 @@ TEST(Curriculum, LessonAdvancesWhenTheSmoothedReturnPassesTheBarAndSurvivesAChec
   EXPECT_EQ(resumed.saveState(), env.saveState());
 }
 
+TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
+  robot::SkillDef run = *fixture().tree.find("run");
+  run.termination.episodeSeconds = 0.2;
+  run.curriculum.vxMax = {1.0, 1.5, run.commands.vx.hi};
+  run.curriculum.halfPeriodTicks = {40, 35, run.prior.halfPeriodTicks};
+  run.curriculum.advanceAt = 0.01;
+  run.commands.resampleSeconds = 0.05;  // a new draw every 5 ticks: many draws per lesson
+  ai::SkillEnv env(fixture().model, run, fixture().tree.path, {4, 1, false});
+  EXPECT_DOUBLE_EQ(env.lessonSkill().commands.vx.hi, 1.0);
+  EXPECT_EQ(env.lessonSkill().prior.halfPeriodTicks, 40);
+  Eigen::MatrixXf obs;
+  env.reset(1, &obs);
+  ai::StepResult r;
+  const Eigen::MatrixXf zero = Eigen::MatrixXf::Zero(robot::kActionSize, 4);
+  double topSeen = 0;
+  for (int s = 0; s < 19; ++s) {  // lesson 1 only: no forward command above its 1.0 m/s
+    env.step(zero, &r);
+    for (int n = 0; n < 4; ++n) topSeen = std::max(topSeen, double(r.observations(robot::kObsCommand, n)));
+  }
+  EXPECT_EQ(env.curriculumLesson(), 0);
+  EXPECT_LE(topSeen, 1.0 + 1e-6);
+  EXPECT_GT(topSeen, 0.8);  // the run's commands start at 0.8 m/s
+  for (int s = 0; s < 400; ++s) env.step(zero, &r);
+  EXPECT_EQ(env.curriculumLesson(), 2) << env.curriculumNote();
+  EXPECT_DOUBLE_EQ(env.lessonSkill().commands.vx.hi, run.commands.vx.hi);
+  EXPECT_EQ(env.lessonSkill().prior.halfPeriodTicks, run.prior.halfPeriodTicks);
+  EXPECT_NE(env.curriculumNote().find("forward commands up to 2.00 m/s"), std::string::npos) << env.curriculumNote();
+  // a resumed environment trains the lesson it was saved in
+  ai::SkillEnv resumed(fixture().model, run, fixture().tree.path, {4, 1, false});
+  resumed.loadState(env.saveState());
+  EXPECT_EQ(resumed.lessonSkill().prior.halfPeriodTicks, run.prior.halfPeriodTicks);
+}
+
 TEST(Curriculum, NoLessonChangeBelowTheBar) {
   robot::SkillDef stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 0.2;

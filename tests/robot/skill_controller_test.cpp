@@ -241,6 +241,20 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string keysOnPhase = walk + "[skill.walk.prior]\ntype = \"phase\"\nkeys = [{ t = 1.0, offset = { knee = 1 } }]\n";
   EXPECT_NE(errorOf(keysOnPhase).find("t.toml:19: skill.walk.prior: a \"keyframes\" prior needs keys"), std::string::npos)
       << errorOf(keysOnPhase);
+  // a command curriculum ends at what the skill ships with (its commands' vx top, the prior's T1)
+  const std::string phase = walk + "[skill.walk.prior]\ntype = \"phase\"\nT1 = 30\n[skill.walk.commands]\nvx = [0.5, 2.0]\n";
+  const std::string shortTop = phase + "[skill.walk.curriculum]\nvx_max = [1.0, 1.5]\n";
+  EXPECT_NE(errorOf(shortTop).find("t.toml:24: skill.walk.curriculum.vx_max must end at the commands' vx top"),
+            std::string::npos) << errorOf(shortTop);
+  const std::string otherT1 = phase + "[skill.walk.curriculum]\nvx_max = [1.0, 2.0]\nT1 = [40, 35]\n";
+  EXPECT_NE(errorOf(otherT1).find("t.toml:24: skill.walk.curriculum.T1 must end at the prior's T1 (30)"), std::string::npos)
+      << errorOf(otherT1);
+  const std::string ragged = phase + "[skill.walk.curriculum]\nvx_max = [1.0, 2.0]\nT1 = [40, 35, 30]\n";
+  EXPECT_NE(errorOf(ragged).find("one value per lesson"), std::string::npos) << errorOf(ragged);
+  const std::string belowBottom = phase + "[skill.walk.curriculum]\nvx_max = [0.4, 2.0]\n";
+  EXPECT_NE(errorOf(belowBottom).find("above the commands' vx bottom"), std::string::npos) << errorOf(belowBottom);
+  const std::string good = phase + "[skill.walk.curriculum]\nvx_max = [1.0, 2.0]\nT1 = [40, 30]\nadvance_at = 1.2\n";
+  EXPECT_EQ(errorOf(good), "");
 }
 
 TEST(KeyframesPrior, EasesBetweenKeysAndHoldsTheLastWithTheClockStopped) {
