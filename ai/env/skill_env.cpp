@@ -61,7 +61,7 @@ struct SkillEnv::Env {
   int finishedLength = 0;
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
   robot::SkillCommand target;  // the latest draw, which a ramped velocity command is heading for
-  int lesson = 0, finishedLesson = 0;  // the curriculum lesson this episode's terrain was built for
+  int startStep = 0;  // rollout step the episode began at (curriculum)
   engine::BallId ball = -1;             // the kick's ball (-1: none)
   engine::BallState ballState;
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
@@ -145,7 +145,6 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.world = std::make_unique<engine::PhysicsWorld>();
   e.world->addGround(friction);
   addTerrain(*e.world, skill_.terrain, stepHeight(), friction);
-  e.lesson = lesson_;
   // on stairs the robot starts facing them (+X, within +-0.2 rad); elsewhere any heading
   const bool stairs = skill_.terrain.kind == robot::TerrainDef::Kind::Stairs;
   const double yaw = stairs ? 0.2 * (2.0 * unit(e.rng) - 1.0) : M_PI * (2.0 * unit(e.rng) - 1.0);
@@ -233,6 +232,9 @@ void SkillEnv::reset(uint64_t seed, Eigen::MatrixXf* observations) {
   observations->resize(robot::kObservationSize, numEnvs());
   std::mt19937_64 seeder(seed);
   for (auto& e : envs_) e->rng.seed(seeder());
+  finished_.clear();
+  rolloutSteps_ = 0;
+  for (auto& e : envs_) e->startStep = 0;
   pool_.parallelFor(numEnvs(), [&](int i) {
     resetEnv(*envs_[size_t(i)]);
     observe(*envs_[size_t(i)], observations->col(i).data());
@@ -319,7 +321,6 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       observe(e, e.finalObservation.data());
       e.finishedReturn = float(e.episodeReturn);
       e.finishedLength = e.tick;
-      e.finishedLesson = e.lesson;
       resetEnv(e);
     }
     observe(e, result->observations.col(i).data());
@@ -333,7 +334,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
   result->episodeLengths.clear();
   result->rewardTermSums.assign(terms_.size(), 0.0);
   for (int i = 0; i < n; ++i) {
-    const Env& e = *envs_[size_t(i)];
+    Env& e = *envs_[size_t(i)];
     result->rewards[i] = e.reward;
     result->terminated[size_t(i)] = e.terminated;
     result->truncated[size_t(i)] = e.truncated;
@@ -342,20 +343,38 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     if (e.terminated || e.truncated) {
       result->episodeReturns.push_back(e.finishedReturn);
       result->episodeLengths.push_back(e.finishedLength);
-      // curriculum, in environment order so that it does not depend on threads: only episodes played on the
-      // current lesson count, and a lesson needs one episode per environment before it can pass
-      if (e.finishedLesson == lesson_ && lesson_ + 1 < lessonCount()) {
-        const double value = e.finishedReturn / double(maxTicks);
-        smoothed_ = lessonEpisodes_ > 0 ? 0.98 * smoothed_ + 0.02 * value : value;
-        ++lessonEpisodes_;
-        if (smoothed_ > advanceAt() && lessonEpisodes_ >= n) {
-          ++lesson_;
-          lessonEpisodes_ = 0;
-          applyLesson();  // episodes under way finish under the new lesson's commands and gait
-        }
+      // the curriculum's record, in environment order so that it does not depend on threads
+      if (lessonCount() > 1) {
+        finished_.push_back({double(e.finishedReturn), e.startStep});
+        e.startStep = rolloutSteps_ + 1;  // the fresh episode's first step is the next one
       }
     }
     for (size_t k = 0; k < terms_.size(); ++k) result->rewardTermSums[k] += e.termSums[k];
+  }
+  ++rolloutSteps_;
+}
+
+void SkillEnv::endRollout() {
+  if (lessonCount() <= 1) return;
+  // the episodes still running were cut by the rollout's end: they count for what they played
+  for (const auto& e : envs_)
+    if (e->tick > 0) finished_.push_back({e->episodeReturn, e->startStep});
+  const int maxTicks = int(std::lround(skill_.termination.episodeSeconds / engine::kTickSeconds));
+  const int minTicks = std::min(maxTicks, int(std::lround(1.0 / engine::kTickSeconds)));
+  bool advance = false;
+  for (const Finished& f : finished_) {
+    const int possible = std::min(maxTicks, rolloutSteps_ - f.startStep);
+    if (possible < minTicks || lesson_ + 1 >= lessonCount()) continue;
+    const double value = f.episodeReturn / double(possible);
+    smoothed_ = lessonEpisodes_ > 0 ? 0.98 * smoothed_ + 0.02 * value : value;
+    ++lessonEpisodes_;
+    advance = advance || (smoothed_ > advanceAt() && lessonEpisodes_ >= numEnvs());
+  }
+  finished_.clear();
+  if (advance) {  // the next rollout trains the next lesson
+    ++lesson_;
+    lessonEpisodes_ = 0;
+    applyLesson();
   }
 }
 

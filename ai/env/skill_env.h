@@ -44,13 +44,18 @@ class SkillEnv final : public VecEnv {
   std::vector<std::string> rewardTermNames() const override;
   void reset(uint64_t seed, Eigen::MatrixXf* observations) override;
   void step(const Eigen::MatrixXf& actions, StepResult* result) override;
+  void endRollout() override;
 
   /// Seconds spent inside physics (substeps) during step() calls so far, summed over threads.
   double physicsSeconds() const;
 
-  /// Curriculum (terrain lessons, or a command curriculum: robot::CurriculumDef): the lesson moves on when the
-  /// smoothed episode return per time-limit step (falls count as zero for the rest of the episode) passes the
-  /// curriculum's advance_at.
+  /// Curriculum (terrain lessons, or a command curriculum: robot::CurriculumDef), measured at the end of each
+  /// rollout: every episode of the rollout (fallen, timed out, or cut by the rollout's end) scores its return
+  /// per tick it could have played (up to the time limit or the rollout's end, so a fall counts as zero for the
+  /// rest), episodes that could have played less than 1 s are skipped, and the lesson moves on when the
+  /// smoothed score passes the curriculum's advance_at, for the next rollout. (Measured per time-limit step
+  /// alone, a time limit longer than the rollout, such as the walk's 20 s against 10.24 s, left only falls to
+  /// count, and no lesson ever passed.)
   int curriculumLesson() const override { return lesson_; }
   std::string curriculumNote() const override;
   std::string saveState() const override;
@@ -81,6 +86,12 @@ class SkillEnv final : public VecEnv {
   int lesson_ = 0;
   double smoothed_ = 0;     // exponential average of return / time-limit steps over this lesson's episodes
   int lessonEpisodes_ = 0;  // episodes finished on the current lesson
+  struct Finished {         // an episode of the current rollout, for the curriculum
+    double episodeReturn;
+    int startStep;          // rollout step it began at
+  };
+  std::vector<Finished> finished_;  // in environment order per step
+  int rolloutSteps_ = 0;            // steps since the last reset()
 };
 
 }  // namespace ai

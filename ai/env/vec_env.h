@@ -36,6 +36,9 @@ class VecEnv {
   virtual void reset(uint64_t seed, Eigen::MatrixXf* observations) = 0;
   /// Applies actions (actionSize x numEnvs, unbounded policy outputs) and advances one step.
   virtual void step(const Eigen::MatrixXf& actions, StepResult* result) = 0;
+  /// The rollout that began at the last reset() is over (the trainer resets every environment for the next
+  /// one): episodes still running were cut there. A curriculum takes its measure here.
+  virtual void endRollout() {}
   /// Opaque, byte-exact snapshot of all environment state that matters for continuing a run identically
   /// (RNG states, episode counters, curricula; the physics state is re-created by reset semantics).
   virtual std::string saveState() const { return {}; }

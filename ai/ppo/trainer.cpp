@@ -170,6 +170,8 @@ void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
     timing->inference += secondsSince(t2);
   }
 
+  env_.endRollout();  // the curriculum measures the rollout (episodes still running were cut here)
+
   // the horizon cut bootstraps from the value of the observation after the last step
   const Clock::time_point t3 = Clock::now();
   requireFinite(obs_, "observation", iteration_, steps);

@@ -89,7 +89,21 @@ TEST(SkillEnv, AFallTerminatesAndResets) {
   EXPECT_NEAR(r.observations(robot::kObsGravity + 2, r.terminated[0] ? 0 : 1), -1.0f, 0.01f);
 }
 
-TEST(Curriculum, LessonAdvancesWhenTheSmoothedReturnPassesTheBarAndSurvivesACheckpoint) {
+namespace {
+
+// one rollout as the trainer runs it: reset, `steps` steps of zero actions, end of rollout
+void zeroRollout(ai::SkillEnv* env, int steps, uint64_t seed = 1) {
+  Eigen::MatrixXf obs;
+  env->reset(seed, &obs);
+  ai::StepResult r;
+  const Eigen::MatrixXf zero = Eigen::MatrixXf::Zero(robot::kActionSize, env->numEnvs());
+  for (int s = 0; s < steps; ++s) env->step(zero, &r);
+  env->endRollout();
+}
+
+}  // namespace
+
+TEST(Curriculum, LessonAdvancesAtTheRolloutEndWhenTheSmoothedReturnPassesTheBarAndSurvivesACheckpoint) {
   robot::SkillDef stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 0.2;  // 20-tick episodes: many finish quickly
   stairs.terrain.advanceAt = 0.01;          // a zero policy still earns a little (the total is clipped at 0)
@@ -100,16 +114,12 @@ TEST(Curriculum, LessonAdvancesWhenTheSmoothedReturnPassesTheBarAndSurvivesAChec
   env.reset(1, &obs);
   ai::StepResult r;
   const Eigen::MatrixXf zero = Eigen::MatrixXf::Zero(robot::kActionSize, 4);
-  for (int s = 0; s < 20; ++s) env.step(zero, &r);  // the first 4 episodes end together: one lesson passes
+  for (int s = 0; s < 60; ++s) env.step(zero, &r);
+  EXPECT_EQ(env.curriculumLesson(), 0);  // lessons change only between rollouts
+  env.endRollout();
   EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
-  // the envs that reset in that step were built before the lesson changed: their episodes do not count for
-  // lesson 2, the ones after them do
-  for (int s = 0; s < 20; ++s) env.step(zero, &r);
-  EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
-  for (int s = 0; s < 20; ++s) env.step(zero, &r);
-  EXPECT_EQ(env.curriculumLesson(), 2) << env.curriculumNote();
-  for (int s = 0; s < 200; ++s) env.step(zero, &r);
-  EXPECT_EQ(env.curriculumLesson(), 3);  // the last lesson, and no further
+  for (int k = 0; k < 5; ++k) zeroRollout(&env, 20);  // one lesson per rollout, up to the last and no further
+  EXPECT_EQ(env.curriculumLesson(), 3);
   EXPECT_DOUBLE_EQ(env.stepHeight(), 0.15);
   EXPECT_NE(env.curriculumNote().find("lesson 4/4"), std::string::npos) << env.curriculumNote();
 
@@ -117,6 +127,20 @@ TEST(Curriculum, LessonAdvancesWhenTheSmoothedReturnPassesTheBarAndSurvivesAChec
   resumed.loadState(env.saveState());
   EXPECT_EQ(resumed.curriculumLesson(), 3);
   EXPECT_EQ(resumed.saveState(), env.saveState());
+}
+
+TEST(Curriculum, EpisodesLongerThanTheRolloutCountForWhatTheyPlayed) {
+  // the walk's 20 s time limit is longer than a rollout: no episode times out, and standing without a fall for
+  // the whole rollout must still count (it once did not, and a curriculum with only falls to measure never moved)
+  robot::SkillDef stairs = *fixture().tree.find("stairs");
+  stairs.termination.episodeSeconds = 20.0;
+  stairs.terrain.advanceAt = 0.01;
+  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, {4, 1, false});
+  zeroRollout(&env, 150);  // 1.5 s: the zero policy stands
+  EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
+  zeroRollout(&env, 50);   // 0.5 s: too short a sample to judge, nothing counts
+  EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
+  EXPECT_NE(env.curriculumNote().find("over 0 episodes"), std::string::npos) << env.curriculumNote();
 }
 
 TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
@@ -134,14 +158,17 @@ TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
   ai::StepResult r;
   const Eigen::MatrixXf zero = Eigen::MatrixXf::Zero(robot::kActionSize, 4);
   double topSeen = 0;
-  for (int s = 0; s < 19; ++s) {  // lesson 1 only: no forward command above its 1.0 m/s
+  for (int s = 0; s < 60; ++s) {  // lesson 1: no forward command above its 1.0 m/s
     env.step(zero, &r);
     for (int n = 0; n < 4; ++n) topSeen = std::max(topSeen, double(r.observations(robot::kObsCommand, n)));
   }
-  EXPECT_EQ(env.curriculumLesson(), 0);
+  env.endRollout();
   EXPECT_LE(topSeen, 1.0 + 1e-6);
   EXPECT_GT(topSeen, 0.8);  // the run's commands start at 0.8 m/s
-  for (int s = 0; s < 400; ++s) env.step(zero, &r);
+  EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
+  EXPECT_DOUBLE_EQ(env.lessonSkill().commands.vx.hi, 1.5);
+  EXPECT_EQ(env.lessonSkill().prior.halfPeriodTicks, 35);
+  zeroRollout(&env, 60);
   EXPECT_EQ(env.curriculumLesson(), 2) << env.curriculumNote();
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.vx.hi, run.commands.vx.hi);
   EXPECT_EQ(env.lessonSkill().prior.halfPeriodTicks, run.prior.halfPeriodTicks);
@@ -162,6 +189,7 @@ TEST(Curriculum, NoLessonChangeBelowTheBar) {
   ai::StepResult r;
   const Eigen::MatrixXf zero = Eigen::MatrixXf::Zero(robot::kActionSize, 4);
   for (int s = 0; s < 100; ++s) env.step(zero, &r);
+  env.endRollout();
   EXPECT_EQ(env.curriculumLesson(), 0);
 }
 
