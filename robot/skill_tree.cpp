@@ -330,7 +330,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     if (const toml::table* ct = r.table(*t, "curriculum", false, where)) {
       const std::string w = where + ".curriculum";
-      r.onlyKeys(*ct, {"vx_max", "T1", "stride", "advance_at"}, w);
+      r.onlyKeys(*ct, {"vx_max", "amplitude_max", "T1", "stride", "advance_at"}, w);
       CurriculumDef& d = s.curriculum;
       d.advanceAt = r.number(*ct, "advance_at", 1.0, -1e3, 1e3, w);
       auto list = [&](const char* key, double lo, double hi, std::vector<double>* out) {
@@ -342,19 +342,28 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       };
       std::vector<double> t1;
       list("vx_max", 0.01, 10, &d.vxMax);
+      list("amplitude_max", 0.0, 1.0, &d.amplitudeMax);
       list("T1", 1, 1000, &t1);
       list("stride", 0, 1, &d.stride);
       for (double v : t1) d.halfPeriodTicks.push_back(int(std::lround(v)));
       const int line = r.line(*ct);
-      if (d.vxMax.empty()) throw Error(located(path, line, w + " needs vx_max = [the forward command's top, per lesson]"));
-      if ((!t1.empty() && t1.size() != d.vxMax.size()) || (!d.stride.empty() && d.stride.size() != d.vxMax.size()))
-        throw Error(located(path, line, w + ": T1 and stride need one value per lesson, as vx_max has (" +
-                                            std::to_string(d.vxMax.size()) + ")"));
+      if (d.vxMax.empty() == d.amplitudeMax.empty())
+        throw Error(located(path, line, w + " needs one of vx_max = [the forward command's top, per lesson] or "
+                                            "amplitude_max = [the amplitude command's top, per lesson]"));
+      const size_t n = d.lessons();
+      if ((!t1.empty() && t1.size() != n) || (!d.stride.empty() && d.stride.size() != n))
+        throw Error(located(path, line, w + ": T1 and stride need one value per lesson (" + std::to_string(n) + ")"));
       if (!s.terrain.lessons.empty())
         throw Error(located(path, line, w + ": a skill has terrain lessons or a command curriculum, not both"));
       // the last lesson is what the skill ships with: it must be the tree entry's own command range and prior
-      if (std::abs(d.vxMax.back() - s.commands.vx.hi) > 1e-9)
+      if (!d.amplitudeMax.empty() && std::abs(d.amplitudeMax.back() - s.commands.amplitude.hi) > 1e-9)
+        throw Error(located(path, line, w + ".amplitude_max must end at the commands' amplitude top (" +
+                                            std::to_string(s.commands.amplitude.hi) + ")"));
+      if (!d.vxMax.empty() && std::abs(d.vxMax.back() - s.commands.vx.hi) > 1e-9)
         throw Error(located(path, line, w + ".vx_max must end at the commands' vx top (" + std::to_string(s.commands.vx.hi) + ")"));
+      for (double v : d.amplitudeMax)
+        if (v < s.commands.amplitude.lo)
+          throw Error(located(path, line, w + ".amplitude_max: every lesson's top must be at least the commands' amplitude bottom"));
       for (double v : d.vxMax)
         if (v <= s.commands.vx.lo)
           throw Error(located(path, line, w + ".vx_max: every lesson's top must be above the commands' vx bottom"));

@@ -3,6 +3,7 @@
 // Names, not indices; validated at load with file:line errors. Format documented in assets/skills/README.md.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <map>
 #include <string>
@@ -109,13 +110,16 @@ struct TerrainDef {
   double advanceAt = 1.0;       ///< smoothed reward per step that moves training to the next lesson
 };
 
-/// A command curriculum (run): lesson i caps the forward command at vx_max[i] and, where given, sets the gait's
-/// half period T1[i] and the stride prior's gain stride[i]. The last lesson is the skill's own (the tree checks
-/// that they agree), so the shipped model runs as it was last trained. Lessons advance as the terrain's do
-/// (advance_at); a skill has either terrain lessons or a command curriculum.
+/// A command curriculum: lesson i caps the forward command at vx_max[i] (run) or the amplitude command at
+/// amplitude_max[i] (one-leg lift), and, where given, sets the gait's half period T1[i] and the stride prior's
+/// gain stride[i]. The last lesson is the skill's own (the tree checks that they agree), so the shipped model runs
+/// as it was last trained. Lessons advance as the terrain's do (advance_at); a skill has either terrain lessons or
+/// a command curriculum.
 struct CurriculumDef {
-  std::vector<double> vxMax;          ///< [m/s], one per lesson (empty: no command curriculum)
+  std::vector<double> vxMax;          ///< [m/s], one per lesson (or empty)
+  std::vector<double> amplitudeMax;   ///< one per lesson (or empty)
   std::vector<int> halfPeriodTicks;   ///< T1 per lesson (empty: the prior's)
+  size_t lessons() const { return std::max(vxMax.size(), amplitudeMax.size()); }
   std::vector<double> stride;         ///< stride gain per lesson (empty: the prior's)
   double advanceAt = 1.0;             ///< smoothed return per time-limit step that moves to the next lesson
 };

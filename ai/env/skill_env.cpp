@@ -87,18 +87,19 @@ SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill,
 }
 
 int SkillEnv::lessonCount() const {
-  return int(std::max(treeSkill_.terrain.lessons.size(), treeSkill_.curriculum.vxMax.size()));
+  return int(std::max(treeSkill_.terrain.lessons.size(), treeSkill_.curriculum.lessons()));
 }
 
 double SkillEnv::advanceAt() const {
-  return treeSkill_.curriculum.vxMax.empty() ? treeSkill_.terrain.advanceAt : treeSkill_.curriculum.advanceAt;
+  return treeSkill_.curriculum.lessons() == 0 ? treeSkill_.terrain.advanceAt : treeSkill_.curriculum.advanceAt;
 }
 
 void SkillEnv::applyLesson() {
   const robot::CurriculumDef& c = treeSkill_.curriculum;
-  if (c.vxMax.empty()) return;
-  const size_t l = size_t(std::clamp(lesson_, 0, int(c.vxMax.size()) - 1));
-  skill_.commands.vx.hi = c.vxMax[l];
+  if (c.lessons() == 0) return;
+  const size_t l = size_t(std::clamp(lesson_, 0, int(c.lessons()) - 1));
+  if (!c.vxMax.empty()) skill_.commands.vx.hi = c.vxMax[l];
+  if (!c.amplitudeMax.empty()) skill_.commands.amplitude.hi = c.amplitudeMax[l];
   if (!c.halfPeriodTicks.empty()) skill_.prior.halfPeriodTicks = c.halfPeriodTicks[l];
   if (!c.stride.empty()) skill_.prior.stride = c.stride[l];
 }
@@ -389,6 +390,8 @@ std::string SkillEnv::curriculumNote() const {
   if (!treeSkill_.curriculum.vxMax.empty())
     std::snprintf(what, sizeof what, "forward commands up to %.2f m/s, T1 %d, stride %.2f", skill_.commands.vx.hi,
                   skill_.prior.halfPeriodTicks, skill_.prior.stride);
+  else if (!treeSkill_.curriculum.amplitudeMax.empty())
+    std::snprintf(what, sizeof what, "amplitude commands up to %.2f", skill_.commands.amplitude.hi);
   else
     std::snprintf(what, sizeof what, "steps %.2f m", stepHeight());
   char buf[256];

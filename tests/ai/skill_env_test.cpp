@@ -179,6 +179,19 @@ TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
   EXPECT_EQ(resumed.lessonSkill().prior.halfPeriodTicks, run.prior.halfPeriodTicks);
 }
 
+TEST(Curriculum, AmplitudeLessonsRaiseTheAmplitudeTop) {
+  robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
+  oneLeg.curriculum.amplitudeMax = {0.6, oneLeg.commands.amplitude.hi};
+  oneLeg.curriculum.advanceAt = 0.01;
+  ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, {4, 1, false});
+  EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.hi, 0.6);
+  EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.lo, oneLeg.commands.amplitude.lo);
+  zeroRollout(&env, 120);
+  EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
+  EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.hi, oneLeg.commands.amplitude.hi);
+  EXPECT_NE(env.curriculumNote().find("amplitude commands up to 1.00"), std::string::npos) << env.curriculumNote();
+}
+
 TEST(Curriculum, NoLessonChangeBelowTheBar) {
   robot::SkillDef stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 0.2;

@@ -253,6 +253,8 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(ragged).find("one value per lesson"), std::string::npos) << errorOf(ragged);
   const std::string belowBottom = phase + "[skill.walk.curriculum]\nvx_max = [0.4, 2.0]\n";
   EXPECT_NE(errorOf(belowBottom).find("above the commands' vx bottom"), std::string::npos) << errorOf(belowBottom);
+  const std::string both = phase + "[skill.walk.curriculum]\nvx_max = [1.0, 2.0]\namplitude_max = [0.5, 1.0]\n";
+  EXPECT_NE(errorOf(both).find("t.toml:24: skill.walk.curriculum needs one of vx_max"), std::string::npos) << errorOf(both);
   const std::string good = phase + "[skill.walk.curriculum]\nvx_max = [1.0, 2.0]\nT1 = [40, 30]\nadvance_at = 1.2\n";
   EXPECT_EQ(errorOf(good), "");
 }
