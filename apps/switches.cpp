@@ -62,6 +62,8 @@ struct Trial {
   double latencyTicks = -1;                   // key tick -> tick the new skill first acts
   char keyBefore = 0, keyAfter = 0;           // the movement keys held before and after the switch (0: none)
   int64_t switchTick = 0, fallTick = -1;      // the switch key's tick; the tick the robot was down (-1: never)
+  std::string fallSkill;                      // the skill driving when it fell, and how it lay
+  double fallHeight = 0, fallPitchDeg = 0, fallLeanDeg = 0;
 };
 
 constexpr double kWindowSeconds = 0.2;  // the window around the switch (and the earlier reference window)
@@ -113,7 +115,13 @@ Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const
   }
   t.switched = t.latencyTicks >= 0;
   t.upright = !s.fallen();
-  if (!t.upright) t.fallTick = s.tick();
+  if (!t.upright) {
+    t.fallTick = s.tick();
+    t.fallSkill = s.activeSkillName();
+    t.fallHeight = s.sensors().basePosition.z();
+    t.fallPitchDeg = robot::forwardPitch(s.sensors()) * 180.0 / M_PI;
+    t.fallLeanDeg = robot::sideLean(s.sensors()) * 180.0 / M_PI;
+  }
   return t;
 }
 
@@ -180,9 +188,12 @@ int runSwitchEval(const SwitchEvalOptions& o) {
         const Trial& t = trials[i];
         if (t.switched && t.upright) continue;
         auto key = [](char k) { return k ? std::string(1, k) : std::string("none"); };
-        char fate[64];
+        char fate[160];
         if (t.upright) std::snprintf(fate, sizeof fate, "never switched");
-        else std::snprintf(fate, sizeof fate, "fell %.2f s after the key", double(t.fallTick - t.switchTick) * engine::kTickSeconds);
+        else
+          std::snprintf(fate, sizeof fate, "fell %.2f s after the key under %s (pelvis %.2f m, forward pitch %.0f deg, side lean %.0f deg)",
+                        double(t.fallTick - t.switchTick) * engine::kTickSeconds, t.fallSkill.c_str(), t.fallHeight,
+                        t.fallPitchDeg, t.fallLeanDeg);
         std::printf("      trial %zu: key %s before, %s after, switch key at %.2f s, latency %.0f ticks, %s\n", i,
                     key(t.keyBefore).c_str(), key(t.keyAfter).c_str(), double(t.switchTick) * engine::kTickSeconds,
                     t.latencyTicks, fate);
