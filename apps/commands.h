@@ -49,6 +49,7 @@ struct EvalOptions {
   int threads = 2;
   bool sweep = false;  ///< print achieved against commanded speeds instead of the card
   bool verbose = false;  ///< switches: list every failed trial
+  bool priorOnly = false;  ///< the card with zero network output: what the skill's prior does by itself
 };
 
 /// `treelearn eval switches` options.

@@ -345,6 +345,7 @@ int main(int argc, char** argv) {
   evalCmd->add_option("--seed", eval.seed, "Seed (default 1)");
   evalCmd->add_option("--threads", eval.threads, "Threads")->check(CLI::Range(1, 64));
   evalCmd->add_flag("--sweep", eval.sweep, "Walk: hold fixed commands and print achieved against commanded speeds");
+  evalCmd->add_flag("--prior-only", eval.priorOnly, "Run the card with zero network output: what the skill's prior does by itself (no model needed)");
   evalCmd->add_flag("--verbose", eval.verbose, "Switches: list every failed trial (keys, moment, latency, time of the fall)");
 
   try {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 
 #include "ai/env/skill_env.h"
@@ -207,12 +208,21 @@ int runEval(const EvalOptions& o) {
   const robot::CardDef& def = l.skill->card;
   if (def.kind == robot::CardDef::Kind::None)
     throw engine::Error(l.tree.path + ": skill '" + o.skill + "' has no [skill." + o.skill + ".card] table, so it has no report card");
-  const std::string onnxPath = o.model.empty() ? l.tree.directory + "/" + l.skill->model : o.model;
-  const ai::LoadedPolicy policy = ai::loadPolicyOnnx(onnxPath);
-  if (policy.observationSize() != robot::kObservationSize || policy.actionSize() != robot::kActionSize)
-    throw engine::Error(onnxPath + ": network sizes do not match the shared layout");
-  ai::checkModelMatchesSkill(policy, onnxPath, l.model, *l.skill, l.tree.path);
-  const ai::PolicyFn act = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) { policy.act(obs, a); };
+  if (o.priorOnly && (o.sweep || !o.model.empty()))
+    throw engine::Error("eval --prior-only runs the card with zero network output: it takes no --model or --sweep");
+  const std::string onnxPath = o.priorOnly ? "none (the prior alone)"
+                               : o.model.empty() ? l.tree.directory + "/" + l.skill->model : o.model;
+  std::unique_ptr<ai::LoadedPolicy> policy;
+  if (!o.priorOnly) {
+    policy = std::make_unique<ai::LoadedPolicy>(ai::loadPolicyOnnx(onnxPath));
+    if (policy->observationSize() != robot::kObservationSize || policy->actionSize() != robot::kActionSize)
+      throw engine::Error(onnxPath + ": network sizes do not match the shared layout");
+    ai::checkModelMatchesSkill(*policy, onnxPath, l.model, *l.skill, l.tree.path);
+  }
+  const ai::PolicyFn act = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
+    if (policy) policy->act(obs, a);
+    else *a = Eigen::MatrixXf::Zero(robot::kActionSize, obs.cols());
+  };
   if (o.sweep) {
     std::vector<robot::SkillCommand> commands;
     for (double vx : {-0.6, -0.3, 0.3, 0.6, 0.9, 1.2, 1.5, 2.0}) commands.push_back({vx, 0, 0});
@@ -236,7 +246,7 @@ int runEval(const EvalOptions& o) {
                 o.skill.c_str(), run.card.episodes, def.episodeSeconds, def.pushes ? "on" : "off", def.segmentSeconds,
                 def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
                                      std::to_string(int(def.standSeconds)) + " s").c_str() : "",
-                onnxPath.c_str(), engine::toHex(ai::onnxFileHash(onnxPath)).c_str());
+                onnxPath.c_str(), policy ? engine::toHex(ai::onnxFileHash(onnxPath)).c_str() : "-");
   std::fputs(head, stdout);
   std::fflush(stdout);
   const ai::CardResult r = ai::runVelocityCard(l.model, *l.skill, act, run);
@@ -244,7 +254,7 @@ int runEval(const EvalOptions& o) {
   std::fputs(text.c_str() + std::strlen(head), stdout);
   // the shipped model's card with the card's own episodes and seed is kept next to it (for `treelearn tree`);
   // a record of the same model file must come out identical: training other skills never changes a skill
-  if (o.model.empty() && o.episodes == 0 && o.seed == 1) {
+  if (policy && o.model.empty() && o.episodes == 0 && o.seed == 1) {
     const std::string record = cardRecordPath(l.tree, *l.skill);
     const bool same = std::filesystem::exists(record) &&
                       engine::readFile(record).find(engine::toHex(ai::onnxFileHash(onnxPath))) != std::string::npos;

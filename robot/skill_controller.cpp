@@ -44,7 +44,8 @@ void takeCommandDraw(const SkillCommand& before, bool ramp, SkillCommand* comman
 bool commandIsZero(const SkillCommand& c) { return c.vx == 0.0 && c.vy == 0.0 && c.wz == 0.0; }
 
 void PhaseClock::advance(const PriorDef& prior, const SkillCommand& command) {
-  if (prior.kind == PriorDef::Kind::Keyframes) tp = std::min(tp + 1, prior.halfPeriodTicks);  // one shot: holds
+  if (prior.kind == PriorDef::Kind::Keyframes)  // one shot: holds at the last key; repeating: wraps
+    tp = prior.cycleTicks > 0 ? (tp + 1) % prior.cycleTicks : std::min(tp + 1, prior.halfPeriodTicks);
   else advance(prior.halfPeriodTicks);
   const bool stepping = prior.kind == PriorDef::Kind::Phase && !(prior.standStill && commandIsZero(command));
   const double target = stepping ? 1.0 : 0.0;

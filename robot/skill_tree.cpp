@@ -160,7 +160,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
-      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys"}, where + ".prior");
+      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat"}, where + ".prior");
       const std::string type = p->get("type") && p->get("type")->value<std::string>() ? *p->get("type")->value<std::string>() : "";
       if (type == "phase") s.prior.kind = PriorDef::Kind::Phase;
       else if (type == "pose") s.prior.kind = PriorDef::Kind::Pose;
@@ -218,6 +218,17 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
           s.prior.keyframes.push_back(key);
         }
         s.prior.halfPeriodTicks = lastTick;
+        if (const toml::node* rp = p->get("repeat")) {
+          const auto b = rp->value<bool>();
+          if (!b) throw Error(located(path, r.line(*rp), where + ".prior.repeat must be true or false"));
+          if (*b) {
+            if (lastTick < 2) throw Error(located(path, r.line(*rp), where + ".prior.repeat: the cycle is too short"));
+            s.prior.cycleTicks = lastTick;
+            s.prior.halfPeriodTicks = lastTick / 2;
+          }
+        }
+      } else if (p->get("repeat")) {
+        throw Error(located(path, r.line(*p->get("repeat")), where + ".prior.repeat: only a \"keyframes\" prior repeats"));
       }
       s.prior.dh = r.number(*p, "dh", 0, -1.5, 1.5, where + ".prior");
       s.prior.d0 = r.number(*p, "d0", 0, -1.5, 1.5, where + ".prior");

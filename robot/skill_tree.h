@@ -32,12 +32,16 @@ struct PriorDef {
   /// Keyframes: joint offsets from the default pose at given ticks after the skill starts (the first key is
   /// the default pose at tick 0, implicitly), eased between keys with a half cosine and held after the last one.
   /// The clock counts up to the last key's tick and stops there (halfPeriodTicks = that tick, so the phase
-  /// observation's cosine runs from 1 to -1 over the motion): a one-shot motion such as lying down.
+  /// observation's cosine runs from 1 to -1 over the motion): a one-shot motion such as lying down. With
+  /// `repeat` the motion is a cycle instead (jumps in a row): the clock wraps to 0 at the last key's tick
+  /// (cycleTicks), so the last key should be near the default pose, and halfPeriodTicks is half the cycle, so
+  /// the phase observation goes once round the circle per cycle.
   struct Keyframe {
     int tick = 0;
     JointArray offset{};
   };
   std::vector<Keyframe> keyframes;
+  int cycleTicks = 0;  ///< repeating keyframes: the cycle's length in ticks (0: one shot)
   int halfPeriodTicks = 40;  ///< T1: ticks per leg phase (gait period = 2 T1 ticks of 0.01 s)
   double dh = 0.0;           ///< stepping amplitude [rad]: hip -= A, knee += 2A, ankle -= A with A = dh u + d0
   double d0 = 0.0;           ///< base offset [rad] added to A

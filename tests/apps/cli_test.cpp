@@ -220,3 +220,14 @@ TEST(Cli, UnknownSkillIsAnError) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("unknown skill 'flyer'"), std::string::npos) << r.out;
 }
+
+TEST(Cli, PriorOnlyCardRunsTheSkillsPriorWithoutAModel) {
+  // the squat's key pose alone at depth 0 is the default pose: standing, it keeps the robot up without a network
+  const CliRun r = run("eval squat --prior-only --episodes 2 --threads 1");
+  EXPECT_NE(r.out.find("model none (the prior alone)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("episodes without a fall"), std::string::npos) << r.out;
+  EXPECT_TRUE(r.code == 0 || r.code == 1) << r.out;  // the card may pass or fail; it must run
+  const CliRun bad = run("eval squat --prior-only --model assets/skills/squat.onnx");
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--prior-only runs the card with zero network output"), std::string::npos) << bad.out;
+}

@@ -297,6 +297,40 @@ TEST(KeyframesPrior, EasesBetweenKeysAndHoldsTheLastWithTheClockStopped) {
   EXPECT_EQ(midStep.tp, 0);
 }
 
+TEST(KeyframesPrior, ARepeatingMotionWrapsItsClockToTheStart) {
+  const std::string dir = testing::TempDir() + "/tree_repeat";
+  std::filesystem::create_directories(dir);
+  const std::string gains = "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
+                            "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
+                            "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
+  std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", repeat = true, keys = "
+                                    "[{ t = 0.3, offset = { knee = 1.0 } }, { t = 1.2, offset = { knee = 0.0 } }] }\n"
+                                    "[skill.walk.rewards]\nlive = 1\n" + gains;
+  const robot::SkillTree tree = robot::loadSkillTree(dir + "/t.toml", model());
+  const robot::PriorDef& prior = tree.find("walk")->prior;
+  EXPECT_EQ(prior.cycleTicks, 120);      // the last key's tick
+  EXPECT_EQ(prior.halfPeriodTicks, 60);  // the phase observation goes once round per cycle
+  robot::PhaseClock clock;
+  for (int i = 0; i < 119; ++i) clock.advance(prior, robot::SkillCommand{});
+  EXPECT_EQ(clock.tp, 119);
+  clock.advance(prior, robot::SkillCommand{});
+  EXPECT_EQ(clock.tp, 0);  // the cycle starts over (a one-shot clock would hold at 120)
+  for (int i = 0; i < 30; ++i) clock.advance(prior, robot::SkillCommand{});
+  robot::PdCommand pd;
+  robot::skillPdCommand(model(), *tree.find("walk"), std::array<float, robot::kActionSize>{}, clock, robot::SkillCommand{}, &pd);
+  EXPECT_NEAR(pd.target[3] - model().joints[3].defaultPosition, 1.0, 1e-12);  // the second cycle's first key
+  // only keyframes repeat
+  std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"phase\", repeat = true }\n"
+                                    "[skill.walk.rewards]\nlive = 1\n" + gains;
+  try {
+    robot::loadSkillTree(dir + "/t.toml", model());
+    ADD_FAILURE() << "a repeating phase prior loaded";
+  } catch (const engine::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("t.toml:4: skill.walk.prior.repeat: only a \"keyframes\" prior repeats"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Termination, GroundSkillsMayLieFaceDownButNotRollOntoTheirSideOrBack) {
   robot::TerminationDef upright;  // 30 deg, 0.5 m
   robot::TerminationDef ground;
