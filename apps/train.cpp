@@ -141,8 +141,11 @@ int runTrain(const TrainOptions& o) {
     if (!std::filesystem::exists(parentPolicy))
       throw engine::Error(parentPolicy + ": the parent skill '" + parent->name + "' has no policy file yet: train " +
                           parent->name + " first (a branch starts from its parent's weights)");
-    trainer.initialiseFrom(ai::loadPolicyState(parentPolicy), float(o.reinflateLogStd));
-    std::printf("initialised from parent '%s' (%s)\n", parent->name.c_str(), parentPolicy.c_str());
+    ai::PolicyState state = ai::loadPolicyState(parentPolicy);
+    if (o.zeroOutput) ai::zeroActorOutput(&state);
+    trainer.initialiseFrom(state, float(o.reinflateLogStd));
+    std::printf("initialised from parent '%s' (%s)%s\n", parent->name.c_str(), parentPolicy.c_str(),
+                o.zeroOutput ? ", actor output layer zeroed: the branch starts as its prior alone" : "");
   }
   std::printf("training %s: %lld steps, %d envs on %d threads, seed %llu, run folder %s\n", skill.name.c_str(),
               (long long)steps, envs, o.threads, (unsigned long long)o.seed, runDir.c_str());

@@ -44,6 +44,11 @@ PolicyState makePolicyState(const PpoConfig& config, int observationSize, int ac
   return p;
 }
 
+void zeroActorOutput(PolicyState* policy) {
+  policy->actor.W.back().setZero();
+  policy->actor.b.back().setZero();
+}
+
 void actDeterministic(const PolicyState& policy, const Eigen::MatrixXf& observations, Eigen::MatrixXf* actions) {
   Eigen::MatrixXf normalised;
   policy.normalizer.normalize(observations, &normalised);

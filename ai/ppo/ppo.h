@@ -37,6 +37,11 @@ PolicyState makePolicyState(const PpoConfig& config, int observationSize, int ac
 
 /// Deterministic actions (the actor's mean) for raw observations (obsSize x batch); normaliser frozen.
 void actDeterministic(const PolicyState& policy, const Eigen::MatrixXf& observations, Eigen::MatrixXf* actions);
+/// Branch init option: zeroes the actor's output layer, so that the branch starts by adding nothing to its prior
+/// (its own prior alone) while keeping the parent's hidden layers, critic, normaliser and log-std. For a branch
+/// whose prior drives a different motion than the parent's policy expects (the squat's policy holds the pelvis
+/// at the commanded height and fights the jump's crouch).
+void zeroActorOutput(PolicyState* policy);
 
 /// Thrown when a loss, gradient, observation or reward is NaN or infinite. The trainer saves the state and stops.
 class TrainingDiverged : public engine::Error {

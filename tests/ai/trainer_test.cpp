@@ -250,6 +250,21 @@ TEST(Trainer, BranchInitialisationCopiesParentAndReinflatesLogStd) {
   EXPECT_EQ(trainer.policy().logStd(0), -2.0f);
 }
 
+TEST(Trainer, ZeroedOutputLayerActsAsNothingButKeepsTheParentsFeatures) {
+  PolicyState parent = makePolicyState(pendulumConfig(), 3, 1, 3);
+  const Eigen::MatrixXf obs = Eigen::MatrixXf::Random(3, 5);
+  Eigen::MatrixXf before, after;
+  actDeterministic(parent, obs, &before);
+  ASSERT_GT(before.cwiseAbs().maxCoeff(), 0.0f);
+  PolicyState branch = parent;
+  zeroActorOutput(&branch);
+  actDeterministic(branch, obs, &after);
+  EXPECT_EQ(after.cwiseAbs().maxCoeff(), 0.0f);  // adds nothing to the prior
+  EXPECT_TRUE(branch.actor.W[0] == parent.actor.W[0]);  // hidden layers, critic and log-std are the parent's
+  EXPECT_TRUE(branch.critic.W[2] == parent.critic.W[2]);
+  EXPECT_TRUE(branch.logStd == parent.logStd);
+}
+
 TEST(Trainer, NonFiniteValueStopsWithTrainingDivergedAndDumpsState) {
   const std::string dir = freshDir("nan");
   PendulumEnv env(16);
