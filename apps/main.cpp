@@ -360,6 +360,8 @@ int main(int argc, char** argv) {
     if (*replayCmd) return cmdReplay(replay);
     if (*benchCmd) return apps::runBench(bench);
     if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
+    if (*evalCmd && eval.skill == "switches" && (eval.priorOnly || eval.sweep || !eval.model.empty()))
+      throw engine::Error("eval switches runs the shipped models: it takes no --prior-only, --sweep or --model");
     if (*evalCmd && eval.skill == "switches") {
       apps::SwitchEvalOptions sw;
       if (eval.episodes > 0) sw.trials = eval.episodes;

@@ -190,13 +190,18 @@ int runSwitchEval(const SwitchEvalOptions& o) {
         auto key = [](char k) { return k ? std::string(1, k) : std::string("none"); };
         char fate[160];
         if (t.upright) std::snprintf(fate, sizeof fate, "never switched");
+        else if (t.fallTick < t.switchTick)
+          std::snprintf(fate, sizeof fate, "fell %.2f s before the key under %s", double(t.switchTick - t.fallTick) * engine::kTickSeconds,
+                        t.fallSkill.c_str());
         else
           std::snprintf(fate, sizeof fate, "fell %.2f s after the key under %s (pelvis %.2f m, forward pitch %.0f deg, side lean %.0f deg)",
                         double(t.fallTick - t.switchTick) * engine::kTickSeconds, t.fallSkill.c_str(), t.fallHeight,
                         t.fallPitchDeg, t.fallLeanDeg);
-        std::printf("      trial %zu: key %s before, %s after, switch key at %.2f s, latency %.0f ticks, %s\n", i,
+        char latency[32] = "none";
+        if (t.switched) std::snprintf(latency, sizeof latency, "%.0f ticks", t.latencyTicks);
+        std::printf("      trial %zu: key %s before, %s after, switch key at %.2f s, latency %s, %s\n", i,
                     key(t.keyBefore).c_str(), key(t.keyAfter).c_str(), double(t.switchTick) * engine::kTickSeconds,
-                    t.latencyTicks, fate);
+                    latency, fate);
       }
   }
   for (const std::string& u : untried) std::printf("  %s\n", u.c_str());

@@ -75,6 +75,9 @@ int runTrain(const TrainOptions& o) {
     if (!(o.learningRate > 0 && o.learningRate < 1)) throw engine::Error("--learning-rate must be in (0, 1)");
     config.learningRate = o.learningRate;  // decays linearly to the config's final rate, as usual
   }
+  if (o.zeroOutput && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
+    throw engine::Error("--zero-output is a branch's initialisation from its parent: not with --resume, --init-from or "
+                        "for the root skill");
   const int64_t steps = o.steps > 0 ? o.steps : skill.trainingSteps;
   const int envs = o.envs > 0 ? o.envs : skill.trainingEnvs;
   const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
@@ -272,6 +275,8 @@ int runEval(const EvalOptions& o) {
 }
 
 int runEvalAll(const EvalOptions& o) {
+  if (o.priorOnly || o.sweep || !o.model.empty())
+    throw engine::Error("eval all runs every shipped model's card and the switches: it takes no --prior-only, --sweep or --model");
   const robot::RobotModel model = robot::loadRobotModel(engine::projectFile("assets/robots/g1_23dof.toml"));
   const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
   std::vector<std::pair<std::string, std::string>> results;
@@ -298,6 +303,7 @@ int runEvalAll(const EvalOptions& o) {
     SwitchEvalOptions sw;
     sw.seed = o.seed;
     sw.threads = o.threads;
+    sw.verbose = o.verbose;
     results.push_back({"switches", runSwitchEval(sw) == 0 ? "PASS" : "FAIL"});
   } else {
     results.push_back({"switches", "FAIL (no two connected skills have models)"});

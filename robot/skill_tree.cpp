@@ -222,7 +222,14 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
           const auto b = rp->value<bool>();
           if (!b) throw Error(located(path, r.line(*rp), where + ".prior.repeat must be true or false"));
           if (*b) {
-            if (lastTick < 2) throw Error(located(path, r.line(*rp), where + ".prior.repeat: the cycle is too short"));
+            if (lastTick < 2 || lastTick % 2 != 0)
+              throw Error(located(path, r.line(*rp), where + ".prior.repeat: the last key's t must be an even number of "
+                                                         "hundredths of a second, at least 0.02 (the phase observation "
+                                                         "goes once round per cycle)"));
+            for (double v : s.prior.keyframes.back().offset)
+              if (std::abs(v) > 0.05)
+                throw Error(located(path, r.line(*rp), where + ".prior.repeat: the last key must be within 0.05 rad of the "
+                                                           "default pose (the cycle starts over from it)"));
             s.prior.cycleTicks = lastTick;
             s.prior.halfPeriodTicks = lastTick / 2;
           }
@@ -366,6 +373,8 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         throw Error(located(path, line, w + ": T1 and stride need one value per lesson (" + std::to_string(n) + ")"));
       if (!s.terrain.lessons.empty())
         throw Error(located(path, line, w + ": a skill has terrain lessons or a command curriculum, not both"));
+      if ((!t1.empty() || !d.stride.empty()) && s.prior.kind != PriorDef::Kind::Phase)
+        throw Error(located(path, line, w + ": T1 and stride lessons are for a \"phase\" prior"));
       // the last lesson is what the skill ships with: it must be the tree entry's own command range and prior
       if (!d.amplitudeMax.empty() && std::abs(d.amplitudeMax.back() - s.commands.amplitude.hi) > 1e-9)
         throw Error(located(path, line, w + ".amplitude_max must end at the commands' amplitude top (" +

@@ -111,7 +111,7 @@ struct TerrainDef {
   double topDepth = 1.5;        ///< landing between up and down [m]
   double width = 4.0;           ///< across the robot's path [m]
   std::vector<double> lessons;  ///< step heights of the curriculum's lessons, in order [m]
-  double advanceAt = 1.0;       ///< smoothed reward per step that moves training to the next lesson
+  double advanceAt = 1.0;       ///< average episode score (SkillEnv::curriculumScore) that moves to the next lesson
 };
 
 /// A command curriculum: lesson i caps the forward command at vx_max[i] (run) or the amplitude command at
@@ -125,7 +125,7 @@ struct CurriculumDef {
   std::vector<int> halfPeriodTicks;   ///< T1 per lesson (empty: the prior's)
   size_t lessons() const { return std::max(vxMax.size(), amplitudeMax.size()); }
   std::vector<double> stride;         ///< stride gain per lesson (empty: the prior's)
-  double advanceAt = 1.0;             ///< smoothed return per time-limit step that moves to the next lesson
+  double advanceAt = 1.0;             ///< average episode score (SkillEnv::curriculumScore) that moves to the next lesson
 };
 
 /// A ball placed in front of the robot at every episode start (kick): offset from the pelvis in the heading

@@ -62,6 +62,7 @@ struct SkillEnv::Env {
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
   robot::SkillCommand target;  // the latest draw, which a ramped velocity command is heading for
   int startStep = 0;  // rollout step the episode began at (curriculum)
+  double episodeReturnAtEnd = 0;  // the finished episode's return (curriculum)
   engine::BallId ball = -1;             // the kick's ball (-1: none)
   engine::BallState ballState;
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
@@ -321,6 +322,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     if (e.terminated || e.truncated) {
       observe(e, e.finalObservation.data());
       e.finishedReturn = float(e.episodeReturn);
+      e.episodeReturnAtEnd = e.episodeReturn;
       e.finishedLength = e.tick;
       resetEnv(e);
     }
@@ -346,7 +348,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       result->episodeLengths.push_back(e.finishedLength);
       // the curriculum's record, in environment order so that it does not depend on threads
       if (lessonCount() > 1) {
-        finished_.push_back({double(e.finishedReturn), e.startStep});
+        finished_.push_back({e.episodeReturnAtEnd, e.startStep});
         e.startStep = rolloutSteps_ + 1;  // the fresh episode's first step is the next one
       }
     }
@@ -366,17 +368,24 @@ void SkillEnv::endRollout() {
   for (const Finished& f : finished_) {
     const int possible = std::min(maxTicks, rolloutSteps_ - f.startStep);
     if (possible < minTicks || lesson_ + 1 >= lessonCount()) continue;
-    const double value = f.episodeReturn / double(possible);
-    smoothed_ = lessonEpisodes_ > 0 ? 0.98 * smoothed_ + 0.02 * value : value;
+    // an exponential average over the lesson's episodes, bias-corrected (it starts at 0, so dividing by
+    // 1 - 0.98^k weighs the first episodes evenly instead of letting the first one decide), over at least two
+    // episodes per environment (two rollouts' worth)
+    smoothed_ = 0.98 * smoothed_ + 0.02 * (f.episodeReturn / double(possible));
     ++lessonEpisodes_;
-    advance = advance || (smoothed_ > advanceAt() && lessonEpisodes_ >= numEnvs());
+    advance = advance || (curriculumScore() > advanceAt() && lessonEpisodes_ >= 2 * numEnvs());
   }
   finished_.clear();
   if (advance) {  // the next rollout trains the next lesson
     ++lesson_;
     lessonEpisodes_ = 0;
+    smoothed_ = 0;
     applyLesson();
   }
+}
+
+double SkillEnv::curriculumScore() const {
+  return lessonEpisodes_ > 0 ? smoothed_ / (1.0 - std::pow(0.98, lessonEpisodes_)) : 0.0;
 }
 
 double SkillEnv::stepHeight() const {
@@ -396,7 +405,7 @@ std::string SkillEnv::curriculumNote() const {
     std::snprintf(what, sizeof what, "steps %.2f m", stepHeight());
   char buf[256];
   std::snprintf(buf, sizeof buf, "lesson %d/%d (%s; smoothed return per step %.2f of %.2f over %d episodes)",
-                lesson_ + 1, lessonCount(), what, lessonEpisodes_ ? smoothed_ : 0.0, advanceAt(), lessonEpisodes_);
+                lesson_ + 1, lessonCount(), what, curriculumScore(), advanceAt(), lessonEpisodes_);
   return buf;
 }
 

@@ -52,14 +52,18 @@ class SkillEnv final : public VecEnv {
   /// Curriculum (terrain lessons, or a command curriculum: robot::CurriculumDef), measured at the end of each
   /// rollout: every episode of the rollout (fallen, timed out, or cut by the rollout's end) scores its return
   /// per tick it could have played (up to the time limit or the rollout's end, so a fall counts as zero for the
-  /// rest), episodes that could have played less than 1 s are skipped, and the lesson moves on when the
-  /// smoothed score passes the curriculum's advance_at, for the next rollout. (Measured per time-limit step
+  /// rest), episodes that could have played less than 1 s (or the time limit, if shorter) are skipped, and the
+  /// lesson moves on for the next rollout when the lesson's bias-corrected exponential average of the scores
+  /// (curriculumScore, weight 0.02 per episode) passes the curriculum's advance_at, after at least two episodes
+  /// per environment. (Measured per time-limit step
   /// alone, a time limit longer than the rollout, such as the walk's 20 s against 10.24 s, left only falls to
   /// count, and no lesson ever passed.)
   int curriculumLesson() const override { return lesson_; }
   std::string curriculumNote() const override;
   std::string saveState() const override;
   void loadState(const std::string& bytes) override;
+  /// The current lesson's average episode score (see above; 0 before its first episode).
+  double curriculumScore() const;
   /// The step height of the current lesson (0 on flat terrain).
   double stepHeight() const;
   /// The skill as the current lesson trains it (a command curriculum's forward top, T1 and stride applied).
@@ -84,7 +88,7 @@ class SkillEnv final : public VecEnv {
   WorkerPool pool_;
   std::vector<std::unique_ptr<Env>> envs_;
   int lesson_ = 0;
-  double smoothed_ = 0;     // exponential average of return / time-limit steps over this lesson's episodes
+  double smoothed_ = 0;     // exponential average (from 0, not bias-corrected) of this lesson's episode scores
   int lessonEpisodes_ = 0;  // episodes finished on the current lesson
   struct Finished {         // an episode of the current rollout, for the curriculum
     double episodeReturn;

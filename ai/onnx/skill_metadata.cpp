@@ -42,6 +42,7 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
   std::string keyframes;  // " keys=tick:o0,o1,...;tick:..." for a keyframes prior
   for (const robot::PriorDef::Keyframe& k : skill.prior.keyframes)
     keyframes += (keyframes.empty() ? " keys=" : ";") + std::to_string(k.tick) + ":" + joinNumbers(k.offset.data(), k.offset.size());
+  if (skill.prior.cycleTicks > 0) keyframes += " repeat";
   std::ostringstream filter;
   filter.precision(9);
   filter << skill.actionFilter;

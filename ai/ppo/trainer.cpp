@@ -170,6 +170,7 @@ void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
     timing->inference += secondsSince(t2);
   }
 
+  rolloutLesson_ = env_.curriculumLesson();  // the log's lesson column: the lesson this rollout trained
   env_.endRollout();  // the curriculum measures the rollout (episodes still running were cut here)
 
   // the horizon cut bootstraps from the value of the observation after the last step
@@ -261,7 +262,7 @@ std::string Trainer::logRow(const TrainerProgress& p, const RolloutStats& r, dou
                    timing.update})
     row += "," + fmt(v);
   row += "," + (std::isnan(p.evalScore) ? std::string() : fmt(p.evalScore));
-  row += "," + std::to_string(env_.curriculumLesson());
+  row += "," + std::to_string(rolloutLesson_);
   return row + "\n";
 }
 

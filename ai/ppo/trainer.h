@@ -110,6 +110,7 @@ class Trainer {
   RolloutBuffer buffer_;
   std::mt19937_64 rng_;
   int64_t iteration_ = 0;
+  int rolloutLesson_ = 0;  // the curriculum lesson the last rollout trained (logged)
   int64_t envSteps_ = 0;
   double bestScore_ = -std::numeric_limits<double>::infinity();
   std::atomic<bool> stopRequested_{false};

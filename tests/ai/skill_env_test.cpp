@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <set>
 
 namespace {
@@ -136,11 +137,55 @@ TEST(Curriculum, EpisodesLongerThanTheRolloutCountForWhatTheyPlayed) {
   stairs.termination.episodeSeconds = 20.0;
   stairs.terrain.advanceAt = 0.01;
   ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, {4, 1, false});
-  zeroRollout(&env, 150);  // 1.5 s: the zero policy stands
+  zeroRollout(&env, 150);  // 1.5 s: the zero policy stands; 4 episodes, not yet two per environment
+  EXPECT_EQ(env.curriculumLesson(), 0) << env.curriculumNote();
+  zeroRollout(&env, 150, 2);
   EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
   zeroRollout(&env, 50);   // 0.5 s: too short a sample to judge, nothing counts
   EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
   EXPECT_NE(env.curriculumNote().find("over 0 episodes"), std::string::npos) << env.curriculumNote();
+}
+
+TEST(Curriculum, ScoreIsTheReturnPerTickEachEpisodeCouldPlayAveragedOverTheLesson) {
+  // by hand from the step results: every episode of a 260-step rollout with a 1.5 s time limit, finished (fallen
+  // or timed out) or cut by the rollout's end, scores return / min(150, 260 - its first step); those that could
+  // play fewer than 100 ticks are left out; the score is the bias-corrected average (weight 0.02 per episode)
+  robot::SkillDef stairs = *fixture().tree.find("stairs");
+  stairs.termination.episodeSeconds = 1.5;
+  stairs.terrain.advanceAt = 1e9;  // never: only the score is checked
+  const int n = 3, steps = 260, limit = 150;
+  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, {n, 1, false});
+  Eigen::MatrixXf obs;
+  env.reset(4, &obs);
+  ai::StepResult r;
+  std::vector<double> running(n, 0.0);
+  std::vector<int> start(n, 0);
+  std::vector<double> finished, finishedPossible;  // in the order the environment sees them
+  for (int t = 0; t < steps; ++t) {
+    env.step(Eigen::MatrixXf::Constant(robot::kActionSize, n, t % 2 ? 0.4f : -0.4f), &r);
+    for (int i = 0; i < n; ++i) {
+      running[size_t(i)] += double(r.rewards[i]);
+      if (r.terminated[size_t(i)] || r.truncated[size_t(i)]) {
+        finished.push_back(running[size_t(i)]);
+        finishedPossible.push_back(std::min(limit, steps - start[size_t(i)]));
+        running[size_t(i)] = 0;
+        start[size_t(i)] = t + 1;
+      }
+    }
+  }
+  env.endRollout();
+  for (int i = 0; i < n; ++i)
+    if (start[size_t(i)] < steps) finished.push_back(running[size_t(i)]), finishedPossible.push_back(std::min(limit, steps - start[size_t(i)]));
+  double ema = 0;
+  int k = 0;
+  for (size_t e = 0; e < finished.size(); ++e) {
+    if (finishedPossible[e] < 100) continue;
+    ema = 0.98 * ema + 0.02 * finished[e] / finishedPossible[e];
+    ++k;
+  }
+  ASSERT_GT(k, n);  // the time-outs at 150 and the episodes cut at 260 after 110 ticks both count
+  EXPECT_NEAR(env.curriculumScore(), ema / (1.0 - std::pow(0.98, k)), 1e-4) << env.curriculumNote();
+  EXPECT_NE(env.curriculumNote().find("over " + std::to_string(k) + " episodes"), std::string::npos) << env.curriculumNote();
 }
 
 TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
@@ -187,6 +232,7 @@ TEST(Curriculum, AmplitudeLessonsRaiseTheAmplitudeTop) {
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.hi, 0.6);
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.lo, oneLeg.commands.amplitude.lo);
   zeroRollout(&env, 120);
+  zeroRollout(&env, 120, 2);
   EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.hi, oneLeg.commands.amplitude.hi);
   EXPECT_NE(env.curriculumNote().find("amplitude commands up to 1.00"), std::string::npos) << env.curriculumNote();

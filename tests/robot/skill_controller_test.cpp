@@ -255,6 +255,15 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(belowBottom).find("above the commands' vx bottom"), std::string::npos) << errorOf(belowBottom);
   const std::string both = phase + "[skill.walk.curriculum]\nvx_max = [1.0, 2.0]\namplitude_max = [0.5, 1.0]\n";
   EXPECT_NE(errorOf(both).find("t.toml:24: skill.walk.curriculum needs one of vx_max"), std::string::npos) << errorOf(both);
+  const std::string squatT1 = walk + "[skill.walk.prior]\ntype = \"pose\"\noffset = { knee = 1 }\n[skill.walk.commands]\nvx = [0.5, 2.0]\n"
+                               "[skill.walk.curriculum]\nvx_max = [1.0, 2.0]\nT1 = [40, 40]\n";
+  EXPECT_NE(errorOf(squatT1).find("T1 and stride lessons are for a \"phase\" prior"), std::string::npos) << errorOf(squatT1);
+  // a repeating keyframes cycle starts over from the default pose, and goes round the phase circle once
+  const std::string notHome = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nrepeat = true\nkeys = [{ t = 0.5, offset = { knee = 1 } }]\n";
+  EXPECT_NE(errorOf(notHome).find("t.toml:21: skill.walk.prior.repeat: the last key must be within 0.05 rad of the default pose"),
+            std::string::npos) << errorOf(notHome);
+  const std::string odd = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nrepeat = true\nkeys = [{ t = 0.3, offset = { knee = 1 } }, { t = 0.51, offset = { knee = 0 } }]\n";
+  EXPECT_NE(errorOf(odd).find("an even number of hundredths"), std::string::npos) << errorOf(odd);
   const std::string good = phase + "[skill.walk.curriculum]\nvx_max = [1.0, 2.0]\nT1 = [40, 30]\nadvance_at = 1.2\n";
   EXPECT_EQ(errorOf(good), "");
 }
