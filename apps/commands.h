@@ -33,6 +33,7 @@ struct TrainOptions {
   int evalEvery = 10;     ///< iterations between report-card evaluations (0 = never)
   int evalEpisodes = 10;  ///< episodes of each training evaluation (the card's own count is for `eval`)
   double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
+  double initLogStd = std::nan("");  ///< branch init: set every log-std entry to this (less or more exploration)
   bool zeroOutput = false;  ///< branch init: the actor's output layer starts at zero (the branch begins as its prior)
   std::string initFrom;   ///< start from this policy file (PolicyState) instead of fresh weights or the parent
   double learningRate = std::nan("");  ///< override of the [ppo] initial learning rate (fine-tuning)

@@ -75,9 +75,9 @@ int runTrain(const TrainOptions& o) {
     if (!(o.learningRate > 0 && o.learningRate < 1)) throw engine::Error("--learning-rate must be in (0, 1)");
     config.learningRate = o.learningRate;  // decays linearly to the config's final rate, as usual
   }
-  if (o.zeroOutput && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
-    throw engine::Error("--zero-output is a branch's initialisation from its parent: not with --resume, --init-from or "
-                        "for the root skill");
+  if ((o.zeroOutput || !std::isnan(o.initLogStd)) && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
+    throw engine::Error("--zero-output and --init-log-std are a branch's initialisation from its parent: not with --resume, "
+                        "--init-from or for the root skill");
   const int64_t steps = o.steps > 0 ? o.steps : skill.trainingSteps;
   const int envs = o.envs > 0 ? o.envs : skill.trainingEnvs;
   const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
@@ -146,6 +146,7 @@ int runTrain(const TrainOptions& o) {
                           parent->name + " first (a branch starts from its parent's weights)");
     ai::PolicyState state = ai::loadPolicyState(parentPolicy);
     if (o.zeroOutput) ai::zeroActorOutput(&state);
+    if (!std::isnan(o.initLogStd)) state.logStd.setConstant(float(o.initLogStd));
     trainer.initialiseFrom(state, float(o.reinflateLogStd));
     std::printf("initialised from parent '%s' (%s)%s\n", parent->name.c_str(), parentPolicy.c_str(),
                 o.zeroOutput ? ", actor output layer zeroed: the branch starts as its prior alone" : "");

@@ -233,3 +233,12 @@ TEST(Cli, PriorOnlyCardRunsTheSkillsPriorWithoutAModel) {
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_NE(bad.out.find("--prior-only runs the card with zero network output"), std::string::npos) << bad.out;
 }
+
+TEST(Cli, BranchInitialisationOptionsAreRefusedWhereTheyWouldDoNothing) {
+  const CliRun resume = run("train squat --resume --zero-output --run-dir " + tempDir("zero_resume"));
+  EXPECT_EQ(resume.code, 2) << resume.out;
+  EXPECT_NE(resume.out.find("--zero-output and --init-log-std are a branch's initialisation"), std::string::npos) << resume.out;
+  const CliRun root = run("train walk --init-log-std -2 --steps 10 --run-dir " + tempDir("zero_root"));
+  EXPECT_EQ(root.code, 2) << root.out;
+  EXPECT_NE(root.out.find("for the root skill"), std::string::npos) << root.out;
+}
