@@ -108,6 +108,7 @@ int runTrain(const TrainOptions& o) {
   options.resume = o.resume;
   options.evalEvery = std::max(1, o.evalEvery);
   options.updateThreads = o.threads;
+  options.criticWarmupIterations = o.criticWarmup;
   if (skill.card.kind != robot::CardDef::Kind::None && o.evalEvery > 0) {
     options.evaluate = [&](const ai::PolicyState& p) {
       ai::CardRun card{skill.card, 1000 + o.seed, o.threads};  // a fixed seed, so resumed runs score identically

@@ -202,6 +202,11 @@ void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, Pp
   appendTensor(&grads_.logStd, &gradRefs_);
 
   // refuse a non-finite step, then clip and apply
+  if (actorFrozen_) {  // critic warm-up: nothing moves the actor or its noise (and its gradient does not clip the critic's)
+    for (Eigen::MatrixXf& w : grads_.actor.W) w.setZero();
+    for (Eigen::VectorXf& b : grads_.actor.b) b.setZero();
+    grads_.logStd.setZero();
+  }
   const double gradNorm = clipGradNorm(gradRefs_, config_.maxGradNorm);
   if (!std::isfinite(policyLoss) || !std::isfinite(valueLoss) || !std::isfinite(gradNorm)) {
     std::ostringstream m;
@@ -211,7 +216,7 @@ void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, Pp
   }
   // the KL of this minibatch under the current parameters (before the step) sets the adaptive rate, as rsl_rl
   const double approxKl = double(((ratio - 1.0f) - logRatio).cast<double>().mean());
-  if (config_.adaptiveLearningRate) adaptiveLr_ = adaptLearningRate(adaptiveLr_, approxKl, config_);
+  if (!actorFrozen_ && config_.adaptiveLearningRate) adaptiveLr_ = adaptLearningRate(adaptiveLr_, approxKl, config_);
   adam_.step(paramRefs_, gradRefs_, float(config_.adaptiveLearningRate ? adaptiveLr_ : c.learningRate));
   policy->logStd = policy->logStd.cwiseMax(float(config_.logStdMin)).cwiseMin(float(config_.logStdMax));
 

@@ -97,6 +97,11 @@ class PpoUpdater {
   double adaptiveLearningRate() const { return adaptiveLr_; }
   void setAdaptiveLearningRate(double lr) { adaptiveLr_ = lr; }
 
+  /// Critic only: the actor and log-std get no step (their gradients are zeroed before Adam, whose moments for
+  /// them stay as they were) and the adaptive rate is not adapted (the KL is ~0). For a branch whose inherited
+  /// critic must first learn the branch's rewards, before its advantages steer the actor.
+  void setActorFrozen(bool frozen) { actorFrozen_ = frozen; }
+
   /// The optimiser (its state is part of a checkpoint).
   Adam& optimizer() { return adam_; }
   const Adam& optimizer() const { return adam_; }
@@ -108,6 +113,7 @@ class PpoUpdater {
   PpoConfig config_;
   Adam adam_;
   double adaptiveLr_ = std::nan("");
+  bool actorFrozen_ = false;
   PolicyGradients grads_;
   MlpCache actorCache_, criticCache_;
   std::vector<int> permutation_;

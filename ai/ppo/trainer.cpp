@@ -301,6 +301,7 @@ void Trainer::run() {
       collectRollout(&rollout, &timing);
       const Clock::time_point updateStart = Clock::now();
       Eigen::setNbThreads(options_.updateThreads);
+      updater_.setActorFrozen(iteration_ < options_.criticWarmupIterations);
       stats = updater_.update(buffer_, coefficients, &rng_, &policy_);
       Eigen::setNbThreads(1);
       timing.update = secondsSince(updateStart);

@@ -53,6 +53,8 @@ struct TrainerOptions {
   int checkpointEvery = 1;
   /// Threads for the matrix products of the PPO update (Eigen with OpenMP); the rest of the process uses 1.
   int updateThreads = 1;
+  /// The first this many iterations of the run update the critic only (PpoUpdater::setActorFrozen).
+  int criticWarmupIterations = 0;
 };
 
 class Trainer {

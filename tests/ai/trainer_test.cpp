@@ -265,6 +265,28 @@ TEST(Trainer, ZeroedOutputLayerActsAsNothingButKeepsTheParentsFeatures) {
   EXPECT_TRUE(branch.logStd == parent.logStd);
 }
 
+TEST(Trainer, CriticWarmupMovesOnlyTheCriticThenTheActorLearns) {
+  PendulumEnv env(16);
+  TrainerOptions options = shortRun(freshDir("warmup"));
+  options.totalSteps = 2 * 3200;  // two iterations, both warm-up
+  options.criticWarmupIterations = 2;
+  options.evaluate = nullptr;
+  Trainer trainer(env, pendulumConfig(), options);
+  const PolicyState start = trainer.policy();
+  trainer.run();
+  EXPECT_TRUE(trainer.policy().actor.W[0] == start.actor.W[0]);
+  EXPECT_TRUE(trainer.policy().actor.b.back() == start.actor.b.back());
+  EXPECT_TRUE(trainer.policy().logStd == start.logStd);
+  EXPECT_FALSE(trainer.policy().critic.W[0] == start.critic.W[0]);
+  // without the warm-up the same run moves the actor
+  PendulumEnv env2(16);
+  options.criticWarmupIterations = 0;
+  options.runDir = freshDir("warmup_none");
+  Trainer plain(env2, pendulumConfig(), options);
+  plain.run();
+  EXPECT_FALSE(plain.policy().actor.W[0] == start.actor.W[0]);
+}
+
 TEST(Trainer, NonFiniteValueStopsWithTrainingDivergedAndDumpsState) {
   const std::string dir = freshDir("nan");
   PendulumEnv env(16);
