@@ -74,10 +74,11 @@ TEST(PosePrior, OneLegPoseLiftsTheRightSoleAboveTheCardHeight) {
   EXPECT_LT(s.footHeight[1], 0.20);
 }
 
-TEST(PosePrior, OneLegFirstStageCarriesTheWeightOnTheLeftFoot) {
+TEST(PosePrior, OneLegFirstStageCarriesTheWeightOnTheLeftFootAndHolds) {
   // physics, zero policy output: the amplitude rises at the skill's rate to 0.5 (the end of the weight shift, at
-  // 0.5 s) and holds; at 0.7 s the centre of mass is over the left ankle sideways and the right foot carries
-  // little (the pose is an unstable balance without a policy, so only the moment after the shift is checked)
+  // 0.5 s) and holds. At 0.7 s the centre of mass is most of the way over the left foot (a few cm inside its
+  // ankle) and the right foot carries little; unlike the first shift tried (0.13 rad, which carried the robot on
+  // over the left foot within 1.7 s), the pose then holds still on both feet: the lift is the policy's to balance
   const robot::RobotModel& model = fixtures::robotModel();
   const robot::SkillTree& tree = shippedTree();
   const robot::SkillDef& oneLeg = *tree.find("one_leg");
@@ -85,17 +86,23 @@ TEST(PosePrior, OneLegFirstStageCarriesTheWeightOnTheLeftFoot) {
   world.addGround(1.0);
   robot::Robot r(model, world, 0, 0, 0);
   robot::SkillCommand command;
-  for (int tick = 0; tick < 70; ++tick) {
-    command.amplitude = std::min(0.5, command.amplitude + oneLeg.commands.amplitudeRate * engine::kTickSeconds);
-    stepPriorOnly(oneLeg, robot::PhaseClock{}, command, r, world);
-  }
+  auto run = [&](int ticks) {
+    for (int tick = 0; tick < ticks; ++tick) {
+      command.amplitude = std::min(0.5, command.amplitude + oneLeg.commands.amplitudeRate * engine::kTickSeconds);
+      stepPriorOnly(oneLeg, robot::PhaseClock{}, command, r, world);
+    }
+  };
+  run(70);
   const robot::Sensors s = r.sense(world);
   const Eigen::Vector3d leftAnkle = r.linkPose(world, 5).translation();  // link 5: left ankle roll
   std::printf("one_leg shift: CoM - left ankle y %+.3f m, foot forces L %.0f N R %.0f N\n",
               s.centreOfMass.y() - leftAnkle.y(), s.footForce[0], s.footForce[1]);
-  EXPECT_NEAR(s.centreOfMass.y() - leftAnkle.y(), 0.0, 0.03);  // the foot is ~0.07 m wide
+  EXPECT_NEAR(s.centreOfMass.y() - leftAnkle.y(), -0.035, 0.02);  // the feet are ~0.2 m apart, the sole ~0.07 m wide
   EXPECT_LT(s.footForce[1], 0.15 * (s.footForce[0] + s.footForce[1]));
   EXPECT_LT(s.tilt, 0.1);
+  run(430);  // to 5 s
+  EXPECT_LT(r.sense(world).tilt, 0.1);
+  EXPECT_TRUE(r.sense(world).footContact[0]);
 }
 
 TEST(PosePrior, JumpCrouchCycleAloneKeepsTheRobotUpAndOnTheGround) {
