@@ -93,7 +93,8 @@ int runTrain(const TrainOptions& o) {
     const robot::SkillDef* parent = l.tree.find(skill.parent);
     const std::string path = modelsDir + "/" + parent->model;
     if (!std::filesystem::exists(path))
-      throw engine::Error(path + ": handover episodes need the parent skill '" + parent->name + "''s model: train it first");
+      throw engine::Error(path + ": the parent skill '" + parent->name + "' has no model yet (handover episodes start under it): train " +
+                          parent->name + " first");
     handoverPolicy = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(path));
     envOptions.parent = parent;
     envOptions.parentPolicy = [handoverPolicy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { handoverPolicy->act(obs, act); };

@@ -190,6 +190,8 @@ TEST(Curriculum, ScoreIsTheReturnPerTickEachEpisodeCouldPlayAveragedOverTheLesso
 
 TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
   robot::SkillDef run = *fixture().tree.find("run");
+  run.handover = 0;           // no walk policy here: ordinary episodes only
+  run.commands.ramp = false;  // each draw at once, so the lesson's top shows in the observed command
   run.termination.episodeSeconds = 0.2;
   run.curriculum.vxMax = {1.0, 1.5, run.commands.vx.hi};
   run.curriculum.halfPeriodTicks = {40, 35, run.prior.halfPeriodTicks};

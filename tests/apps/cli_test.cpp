@@ -168,7 +168,8 @@ TEST(Cli, TrainingABranchStartsFromItsParentAndWritesOnlyItsOwnFiles) {
   const std::string models = d + "/models";
   fs::copy(kSource + "/assets/skills", models, fs::copy_options::recursive);
   std::vector<std::pair<std::string, std::string>> before;  // every file and its bytes
-  for (const auto& f : fs::directory_iterator(models)) before.push_back({f.path().filename(), engine::readFile(f.path())});
+  for (const auto& f : fs::directory_iterator(models))
+    if (f.is_regular_file()) before.push_back({f.path().filename(), engine::readFile(f.path())});
   ASSERT_TRUE(fs::exists(models + "/walk.policy.bin"));
   const CliRun r = run("train run --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d + "/run --models-dir " + models);
   ASSERT_EQ(r.code, 0) << r.out;
