@@ -57,12 +57,11 @@ struct SkillEnv::Env {
   float reward = 0;
   uint8_t terminated = 0, truncated = 0;
   int fadeTicks = 0;  // a handover episode: ticks of the parent prior's fade left
-  float finishedReturn = 0;
+  double finishedReturn = 0;  // the finished episode's return (reported as float; the curriculum's in full)
   int finishedLength = 0;
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
   robot::SkillCommand target;  // the latest draw, which a ramped velocity command is heading for
   int startStep = 0;  // rollout step the episode began at (curriculum)
-  double episodeReturnAtEnd = 0;  // the finished episode's return (curriculum)
   engine::BallId ball = -1;             // the kick's ball (-1: none)
   engine::BallState ballState;
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
@@ -321,8 +320,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     e.truncated = !fell && e.tick >= maxTicks;
     if (e.terminated || e.truncated) {
       observe(e, e.finalObservation.data());
-      e.finishedReturn = float(e.episodeReturn);
-      e.episodeReturnAtEnd = e.episodeReturn;
+      e.finishedReturn = e.episodeReturn;
       e.finishedLength = e.tick;
       resetEnv(e);
     }
@@ -344,11 +342,11 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     if (e.truncated)
       for (int k = 0; k < robot::kObservationSize; ++k) result->finalObservations(k, i) = e.finalObservation[size_t(k)];
     if (e.terminated || e.truncated) {
-      result->episodeReturns.push_back(e.finishedReturn);
+      result->episodeReturns.push_back(float(e.finishedReturn));
       result->episodeLengths.push_back(e.finishedLength);
       // the curriculum's record, in environment order so that it does not depend on threads
       if (lessonCount() > 1) {
-        finished_.push_back({e.episodeReturnAtEnd, e.startStep});
+        finished_.push_back({e.finishedReturn, e.startStep});
         e.startStep = rolloutSteps_ + 1;  // the fresh episode's first step is the next one
       }
     }
