@@ -106,7 +106,8 @@ void Session::inputSystem(const std::vector<engine::KeyEvent>& events) {
 
 // the requested skill drives the robot if its model is loaded; otherwise the standing controller does.
 // A request for a skill that is not a parent or child of the active one is routed along the tree, one switch
-// at a time, each once the robot is upright and the previous hop has run kMinHopTicks. A switch takes effect
+// at a time, each once the robot is upright and the previous hop has run kMinHopTicks; into a still skill or a
+// slower one (run -> walk) the active skill first brakes (robot::switchWaits). A switch takes effect
 // in the tick it is made: the new network reads the same observation, the filtered action carries over (the
 // layouts are shared, so the joint targets do not jump) and the gait phase keeps its fraction of the cycle.
 void Session::controlSystem() {
@@ -120,14 +121,17 @@ void Session::controlSystem() {
     const bool ground = active_ && robot::isGroundSkill(active_->def);
     const bool handsOver = !active_ || !next || robot::mayHandOver(active_->def, next->def);
     bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks);
-    if (next && ready && active_ && robot::isStillSkill(next->def) && !robot::isStillSkill(active_->def)) {
+    // into a still skill from rest, into a slower one at its top speed: the active skill brakes first
+    if (next && ready && active_ && robot::switchWaits(active_->def, next->def)) {
+      const engine::CommandState& c = input_.state();
+      robot::SkillCommand keysCommand;
+      keysCommand.vx = c.vx, keysCommand.vy = c.vy, keysCommand.wz = c.wz;
       if (restWaitTicks_ < 0) {  // start braking from the command the keys give now
         restWaitTicks_ = 0;
-        const engine::CommandState& c = input_.state();
-        brake_.vx = c.vx, brake_.vy = c.vy, brake_.wz = c.wz;
+        brake_ = keysCommand;
       }
-      const bool stopped = brake_.vx == 0 && brake_.vy == 0 && brake_.wz == 0;
-      ready = (stopped && robot::atRestForSwitch(sensors_)) || restWaitTicks_ >= robot::kMaxRestWaitTicks;
+      brakeTarget_ = robot::switchBrakeTarget(active_->def, next->def, keysCommand);
+      ready = robot::readyForSwitch(next->def, brakeTarget_, brake_, sensors_) || restWaitTicks_ >= robot::maxSwitchWaitTicks(next->def);
     }
     if (next && ready) {
       switchTo(next);
@@ -149,9 +153,10 @@ void Session::controlSystem() {
   command.vy = std::clamp(c.vy, std::min(range.vy.lo, 0.0), std::max(range.vy.hi, 0.0));
   command.wz = std::clamp(c.wz, std::min(range.wz.lo, 0.0), std::max(range.wz.hi, 0.0));
   command.amplitude = c.amplitude;
-  if (restWaitTicks_ >= 0) {  // a still skill waits for rest: brake instead of following the keys
+  if (restWaitTicks_ >= 0) {  // a switch waits for rest or a slower speed: brake instead of following the keys
     const engine::CommandLimits& keys = input_.limits();
-    engine::rampVelocityCommand(0, 0, 0, keys.vRate, keys.wzRate, &brake_.vx, &brake_.vy, &brake_.wz);
+    const robot::SkillCommand& to = brakeTarget_;
+    engine::rampVelocityCommand(to.vx, to.vy, to.wz, keys.vRate, keys.wzRate, &brake_.vx, &brake_.vy, &brake_.wz);
     command.vx = brake_.vx, command.vy = brake_.vy, command.wz = brake_.wz;
     ++restWaitTicks_;
   }
@@ -171,7 +176,9 @@ void Session::controlSystem() {
   robot::skillPdCommand(model_, active_->def, action_, phase_, command, &pd);
   if (fadingFrom_ && fadeTicks_ > 0) {
     // the old prior's share fades linearly: target += w (old prior - new prior), with the policy's part unchanged
-    robot::fadePrior(model_, fadingFrom_->def, active_->def, phase_, command, double(fadeTicks_) / kSwitchFadeTicks, &pd);
+    fadePhase_.advance(fadingFrom_->def.prior, command);
+    robot::fadePrior(model_, fadingFrom_->def, fadePhase_, active_->def, phase_, command,
+                     double(fadeTicks_) / kSwitchFadeTicks, &pd);
     --fadeTicks_;
   }
   robot_->setCommand(pd);
@@ -180,6 +187,7 @@ void Session::controlSystem() {
 void Session::switchTo(const SkillRuntime* next) {
   telemetry_.switches.push_back({tick_, active_ ? active_->def.name : "stand", next->def.name});
   if (active_) {
+    fadePhase_ = phase_;  // the old prior goes on under its own clock while it fades out
     robot::carryPhase(active_->def.prior, next->def.prior, &phase_);  // same fraction of the gait cycle
   } else {
     action_.fill(0.0f);

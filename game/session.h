@@ -126,8 +126,10 @@ class Session {
   int64_t activeSince_ = 0;               // tick of the latest switch
   const SkillRuntime* fadingFrom_ = nullptr;  // the previous skill, whose prior is fading out
   int fadeTicks_ = 0;                     // ticks of that fade left
-  int restWaitTicks_ = -1;                // ticks a switch into a still skill has waited (-1: none waiting)
-  robot::SkillCommand brake_;             // the velocity command ramping to zero meanwhile
+  robot::PhaseClock fadePhase_;           // the previous skill's clock, going on under its prior during the fade
+  int restWaitTicks_ = -1;                // ticks a waiting switch has waited (-1: none waiting; robot::switchWaits)
+  robot::SkillCommand brake_;             // the velocity command ramping to rest or the next skill's top meanwhile
+  robot::SkillCommand brakeTarget_;       // where brake_ ramps to (robot::switchBrakeTarget)
   std::array<float, robot::kActionSize> action_{};
   robot::PhaseClock phase_;
   Eigen::MatrixXf observation_, policyOutput_;

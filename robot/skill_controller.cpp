@@ -137,6 +137,42 @@ bool atRestForSwitch(const Sensors& sensors) {
          sensors.footContact[1];
 }
 
+namespace {
+// the lowest forward speed a skill trains at: its vx.lo if positive and it has no vy or wz command (with one, the
+// keyboard's interlock trains it at vx = 0 too: the run turns on the spot), else at most 0
+double lowestSpeed(const SkillDef& s) {
+  const CommandDef& c = s.commands;
+  const bool sideways = c.vy.lo != 0 || c.vy.hi != 0 || c.wz.lo != 0 || c.wz.hi != 0;
+  return c.vx.lo > 0 && !sideways ? c.vx.lo : std::min(c.vx.lo, 0.0);
+}
+double topSpeed(const SkillDef& s) { return std::max(s.commands.vx.hi, 0.0); }
+}  // namespace
+
+int maxSwitchWaitTicks(const SkillDef& to) { return isStillSkill(to) ? kMaxRestWaitTicks : kMaxSlowWaitTicks; }
+
+bool switchWaits(const SkillDef& from, const SkillDef& to) {
+  if (isStillSkill(from)) return false;
+  return isStillSkill(to) || topSpeed(from) > topSpeed(to) || lowestSpeed(from) < lowestSpeed(to);
+}
+
+SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const SkillCommand& wanted) {
+  SkillCommand target;
+  if (isStillSkill(to)) return target;
+  target = wanted;
+  const double lo = std::max(lowestSpeed(from), lowestSpeed(to)), hi = std::min(topSpeed(from), topSpeed(to));
+  target.vx = std::clamp(wanted.vx, lo, std::max(lo, hi));
+  return target;
+}
+
+bool readyForSwitch(const SkillDef& to, const SkillCommand& target, const SkillCommand& brake, const Sensors& sensors) {
+  if (isStillSkill(to)) return commandIsZero(brake) && atRestForSwitch(sensors);
+  const Eigen::Vector3d v = sensors.baseRotation * sensors.linearVelocity;
+  Eigen::Vector2d heading = (sensors.baseRotation * Eigen::Vector3d::UnitX()).head<2>();
+  if (heading.norm() < 1e-6) return false;  // pitched straight up or down: no heading to move along
+  const double forward = v.head<2>().dot(heading.normalized());
+  return std::abs(brake.vx - target.vx) < 1e-9 && std::abs(forward - target.vx) <= kSlowMargin;
+}
+
 double forwardPitch(const Sensors& s) {
   const Eigen::Vector3d x = s.baseRotation * Eigen::Vector3d::UnitX(), z = s.baseRotation * Eigen::Vector3d::UnitZ();
   return std::atan2(-x.z(), z.z());
@@ -172,11 +208,11 @@ void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase) {
                        int(std::lround(double(phase->tp) * to.halfPeriodTicks / from.halfPeriodTicks)));
 }
 
-void fadePrior(const RobotModel& model, const SkillDef& from, const SkillDef& to, const PhaseClock& phase,
-               const SkillCommand& command, double w, PdCommand* out) {
+void fadePrior(const RobotModel& model, const SkillDef& from, const PhaseClock& fromPhase, const SkillDef& to,
+               const PhaseClock& phase, const SkillCommand& command, double w, PdCommand* out) {
   const std::array<float, kActionSize> none{};
   PdCommand oldPrior, newPrior;
-  skillPdCommand(model, from, none, phase, command, &oldPrior);
+  skillPdCommand(model, from, none, fromPhase, command, &oldPrior);
   skillPdCommand(model, to, none, phase, command, &newPrior);
   for (size_t j = 0; j < size_t(kNumJoints); ++j)
     out->target[j] = std::clamp(out->target[j] + w * (oldPrior.target[j] - newPrior.target[j]), model.joints[j].lower,

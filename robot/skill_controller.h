@@ -85,12 +85,37 @@ bool mayHandOver(const SkillDef& from, const SkillDef& to);
 bool isStillSkill(const SkillDef& skill);
 /// True when a still skill may take over (see kRestSpeed).
 bool atRestForSwitch(const Sensors& sensors);
+/// A moving skill is entered at a speed it was trained for: the forward speeds both skills train at, [lo, hi] with
+/// lo the larger of their lowest speeds (vx.lo, or at most 0 for a skill that also turns or steps sideways: the
+/// keyboard's interlock trains it at vx = 0) and hi the smaller of their top speeds. When `from` may move outside
+/// that band (run at 2 m/s -> walk, top 1.2 m/s; walking backward -> run, which never backs up), `from`'s command
+/// ramps to the keys' command clamped into the band
+/// (switchBrakeTarget) and the switch waits until the pelvis's forward speed is within kSlowMargin of it, or
+/// kMaxSlowWaitTicks at most. (Without it the walk took over from a 2 m/s run and fell in 1 of 10 trials of `eval
+/// switches`, 4 of 9 with S pressed at the switch; the run took over from a backward walk and fell in 3 of 40.)
+constexpr double kSlowMargin = 0.25;
+/// The longest a switch into a moving skill waits for its speed (a 2 m/s run needs ~1 s to brake to a standstill).
+constexpr int kMaxSlowWaitTicks = 250;
+/// The longest a switch from `from` to `to` waits: kMaxRestWaitTicks into a still skill, else kMaxSlowWaitTicks.
+int maxSwitchWaitTicks(const SkillDef& to);
+/// True when a switch from `from` to `to` first waits: for rest (a still `to`) or for `to`'s speeds.
+bool switchWaits(const SkillDef& from, const SkillDef& to);
+/// The velocity command `from` ramps toward while a switch to `to` waits: zero for a still `to`; else `wanted`
+/// (the keys' command) with its forward part clamped into the band both skills command (the run brakes to the
+/// walk's 1.2 m/s, not on toward an S key's -0.6, which it never trained for).
+SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const SkillCommand& wanted);
+/// True when the waiting switch may happen: the braking command `brake` has reached `target` (the
+/// switchBrakeTarget) and the pelvis has come to rest (still `to`) or within kSlowMargin of the target's speed.
+bool readyForSwitch(const SkillDef& to, const SkillCommand& target, const SkillCommand& brake, const Sensors& sensors);
 /// The gait counter at a switch keeps its fraction of the cycle under the new skill's period; a keyframes prior
 /// starts its motion from the beginning (tp = 0).
 void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase);
-/// The fade after a switch: adds w (from's prior - to's prior) to out's targets (clamped to the joint limits), both
-/// priors taken at the same phase and command; w runs from 1 down to 0 over kSwitchFadeTicks.
-void fadePrior(const RobotModel& model, const SkillDef& from, const SkillDef& to, const PhaseClock& phase,
-               const SkillCommand& command, double w, PdCommand* out);
+/// The fade after a switch: adds w (from's prior - to's prior) to out's targets (clamped to the joint limits), each
+/// prior at its own clock (fromPhase: the old skill's clock as it was at the switch, advanced under from's prior
+/// every tick of the fade; phase: the new skill's) and the same command; w runs from 1 down to 0 over
+/// kSwitchFadeTicks. (Taking from's prior at the new skill's clock jumped the targets by up to 1.07 rad in the tick
+/// of a walk -> run switch, whose cycles differ, and fell back to the walk cycle's start for a keyframes skill.)
+void fadePrior(const RobotModel& model, const SkillDef& from, const PhaseClock& fromPhase, const SkillDef& to,
+               const PhaseClock& phase, const SkillCommand& command, double w, PdCommand* out);
 
 }  // namespace robot

@@ -57,6 +57,7 @@ struct SkillEnv::Env {
   float reward = 0;
   uint8_t terminated = 0, truncated = 0;
   int fadeTicks = 0;  // a handover episode: ticks of the parent prior's fade left
+  robot::PhaseClock fadePhase;  // the parent's clock, going on under its prior during the fade
   double finishedReturn = 0;  // the finished episode's return (reported as float; the curriculum's in full)
   int finishedLength = 0;
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
@@ -180,21 +181,21 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
 // The parent drives first, as in play before the skill's key: one command draw from the parent's ranges, ramped
 // at the keys' rates, for a random handover_s; then the switch the runtime makes (robot/skill_controller.h): a
 // still skill waits for rest while the parent's command ramps to zero, and the new skill starts with the parent's
-// filtered action, the gait phase carried over and the parent's prior fading out. Returns false if the parent fell.
+// filtered action, the gait phase carried over and the parent's prior fading out (a slower skill waits for its
+// top speed the same way: robot::switchWaits). Returns false if the parent fell.
 bool SkillEnv::handOver(Env& e) {
   const robot::SkillDef& p = parent_;
   robot::SkillCommand command, target;
   drawVelocity(e.rng, p.commands, &target);
   const int drive = std::max(1, int(std::lround(uniform(e.rng, skill_.handoverSeconds) / engine::kTickSeconds)));
-  const bool fromRest = robot::isStillSkill(skill_) && !robot::isStillSkill(p);
+  const bool waits = robot::switchWaits(p, skill_);
   const engine::CommandLimits keys;
   Eigen::MatrixXf obs(robot::kObservationSize, 1), out;
   for (int t = 0;; ++t) {
     if (t >= drive) {
-      if (!fromRest) break;
-      target = robot::SkillCommand{};
-      const bool stopped = command.vx == 0 && command.vy == 0 && command.wz == 0;
-      if ((stopped && robot::atRestForSwitch(e.sensors)) || t - drive >= robot::kMaxRestWaitTicks) break;
+      if (!waits) break;
+      target = robot::switchBrakeTarget(p, skill_, target);
+      if (robot::readyForSwitch(skill_, target, command, e.sensors) || t - drive >= robot::maxSwitchWaitTicks(skill_)) break;
     }
     engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,
                                 &command.wz);
@@ -216,6 +217,7 @@ bool SkillEnv::handOver(Env& e) {
     e.sensors = e.robot->sense(*e.world);
     if (robot::hasFallen(p.termination, e.sensors)) return false;
   }
+  e.fadePhase = e.phase;
   robot::carryPhase(p.prior, skill_.prior, &e.phase);
   e.fadeTicks = robot::kSwitchFadeTicks;
   return true;
@@ -268,7 +270,9 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     robot::PdCommand pd;
     robot::skillPdCommand(e.model, skill_, e.action, e.phase, e.command, &pd);
     if (e.fadeTicks > 0) {  // a handover episode's first 0.3 s: the parent's prior fades out as in play
-      robot::fadePrior(e.model, parent_, skill_, e.phase, e.command, double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
+      e.fadePhase.advance(parent_.prior, e.command);
+      robot::fadePrior(e.model, parent_, e.fadePhase, skill_, e.phase, e.command,
+                       double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
       --e.fadeTicks;
     }
     e.robot->setCommand(pd);

@@ -132,7 +132,7 @@ TEST(Session, SwitchFadesTheOldPriorOutOverThreeTenthsOfASecond) {
   walk.prior.standStill = false;  // stepping whatever the command
   set.skills.push_back({walk, zero});
   robot::SkillDef squat = *shipped.find("squat");
-  squat.commands.vx = {0.0, 0.1};  // a moving skill here, so that it takes over at once, in mid-step
+  squat.commands.vx = {0.0, walk.commands.vx.hi};  // moving, as fast as the walk: it takes over at once, in mid-step
   set.skills.push_back({squat, zero});
   game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
   s.step(engine::parseKeyScript("0.00 tap 0\n", "k"));
@@ -180,4 +180,72 @@ TEST(Session, AStillSkillWaitsUntilTheCommandHasRampedToZeroAndTheRobotRests) {
   while (s.activeSkillName() != "squat" && s.tick() < key + 300) s.step({});
   ASSERT_EQ(s.activeSkillName(), "squat");
   EXPECT_NEAR(double(s.telemetry().switches.back().tick - key), 60.0, 1.0);  // 61 if 1.2 - 60 x 0.02 leaves a rounding crumb
+}
+
+TEST(Session, ASlowerSkillTakesOverOnceTheCommandHasRampedToItsTopSpeed) {
+  // run (no gait, zero action: the robot stands) with W held for 1 s: vx = 2.0 m/s, the run's top. The walk key
+  // brakes the run's command at the keys' 0.02 m/s per tick to the walk's top, 1.2 m/s: 40 ticks. The pelvis
+  // stands (0 m/s, not within kSlowMargin of 1.2), so the walk takes over at the longest wait, 250 ticks.
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
+  robot::SkillDef walk = *shipped.find("walk"), run = *shipped.find("run");
+  walk.prior.kind = robot::PriorDef::Kind::None;
+  run.prior.kind = robot::PriorDef::Kind::None;
+  ASSERT_DOUBLE_EQ(run.commands.vx.hi, 2.0);
+  ASSERT_DOUBLE_EQ(walk.commands.vx.hi, 1.2);
+  ASSERT_TRUE(robot::switchWaits(run, walk));
+  ASSERT_TRUE(robot::switchWaits(walk, run));  // the walk may back up; the run never does
+  game::SkillSet set;
+  set.skills.push_back({walk, zero});
+  set.skills.push_back({run, zero});
+  game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
+  s.step(engine::parseKeyScript("0.00 tap 1\n0.00 down W\n", "k"));
+  for (int i = 0; i < 109; ++i) s.step({});
+  ASSERT_EQ(s.activeSkillName(), "run");
+  EXPECT_NEAR(s.command().vx, 2.0, 1e-9);
+  const int64_t key = s.tick();
+  s.step({{key, engine::KeyAction::kTap, '0'}});
+  while (s.activeSkillName() != "walk" && s.tick() < key + 300) s.step({});
+  ASSERT_EQ(s.activeSkillName(), "walk");
+  EXPECT_EQ(s.telemetry().switches.back().tick - key, robot::kMaxSlowWaitTicks);
+  // back to the run with W still held: the walk's command goes to 1.2 m/s, which the standing pelvis never
+  // reaches, so the switch waits its longest
+  const int64_t back = s.tick();
+  s.step({{back, engine::KeyAction::kTap, '1'}});
+  while (s.activeSkillName() != "run" && s.tick() < back + 300) s.step({});
+  ASSERT_EQ(s.activeSkillName(), "run");
+  EXPECT_EQ(s.telemetry().switches.back().tick - back, robot::kMaxSlowWaitTicks);
+}
+
+TEST(Switching, ASlowerSkillWaitsForThePelvisToSlowToItsTopSpeed) {
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const robot::SkillDef &walk = *shipped.find("walk"), &run = *shipped.find("run");
+  robot::SkillCommand brake, target;
+  brake.vx = target.vx = 1.2;  // W held: the brake's target is the walk's top
+  robot::Sensors moving;
+  moving.linearVelocity = Eigen::Vector3d(1.5, 0, 0);  // upright, facing +X: body frame = world frame
+  EXPECT_FALSE(robot::readyForSwitch(walk, target, brake, moving));  // 0.3 m/s too fast (kSlowMargin 0.25)
+  moving.linearVelocity = Eigen::Vector3d(1.4, 0, 0);
+  EXPECT_TRUE(robot::readyForSwitch(walk, target, brake, moving));
+  brake.vx = 1.3;  // the command has not come down to the walk's top yet
+  EXPECT_FALSE(robot::readyForSwitch(walk, target, brake, moving));
+  brake.vx = target.vx = 0.0;  // no key: the run brakes to a stop (it trains at vx = 0 too, turning on the spot)
+  moving.linearVelocity = Eigen::Vector3d(1.0, 0, 0);
+  EXPECT_FALSE(robot::readyForSwitch(walk, target, brake, moving));
+  moving.linearVelocity = Eigen::Vector3d(0.2, 0, 0);
+  EXPECT_TRUE(robot::readyForSwitch(walk, target, brake, moving));
+  // the brake aims at the keys' command clamped into the speeds both skills train at: 0-1.2 m/s for run <-> walk
+  // (the run never backs up): W held (2.0) -> 1.2; S held (-0.6) -> 0, whichever way the switch goes
+  robot::SkillCommand keys;
+  keys.vx = 2.0;
+  EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(run, walk, keys).vx, 1.2);
+  keys.vx = -0.6;
+  EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(run, walk, keys).vx, 0.0);
+  EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(walk, run, keys).vx, 0.0);
+  EXPECT_FALSE(robot::switchWaits(*shipped.find("stairs"), walk));  // 0-0.9 m/s: within the walk's speeds
+  // a skill with only a forward range (no turning, so never at vx = 0) is entered at its lowest speed
+  robot::SkillDef sprint = run;
+  sprint.commands.wz = {0.0, 0.0};
+  EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(walk, sprint, keys).vx, 0.8);
 }
