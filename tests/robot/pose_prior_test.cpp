@@ -181,3 +181,58 @@ TEST(PosePrior, ProneKeyframesAloneLieFaceDownWithinThreeSecondsWithoutAFall) {
   EXPECT_EQ(fallTick, -1);
   EXPECT_LT(torsoHeight, prone.card.proneHeight);
 }
+
+TEST(PosePrior, StandUpKeyframesAloneRaiseTheProneRobotWithinFiveSecondsAndItStaysUp) {
+  // physics, zero policy output: the prone prior lays the G1 face down (4 s), then the switch to the stand-up as
+  // the runtime makes it (its clock from 0, the prone prior fading out over 0.3 s on its own clock). The stand-up's
+  // keyframes alone bring the pelvis to >= 0.70 m with a tilt under 10 deg (the card) within 5 s (measured
+  // 4.99 s), never roll it onto a side or the back, and it is still standing 2 s later.
+  const robot::RobotModel& model = fixtures::robotModel();
+  const robot::SkillTree& tree = shippedTree();
+  const robot::SkillDef& prone = *tree.find("prone");
+  const robot::SkillDef& standup = *tree.find("standup");
+  ASSERT_EQ(prone.up, "standup");
+  engine::PhysicsWorld world;
+  world.addGround(1.0);
+  robot::Robot r(model, world, 0, 0, 0);
+  robot::PhaseClock clock;
+  const robot::SkillCommand none;
+  for (int tick = 1; tick <= 400; ++tick) {
+    clock.advance(prone.prior, none);
+    stepPriorOnly(prone, clock, none, r, world);
+  }
+  ASSERT_LT(r.sense(world).basePosition.z(), 0.2);  // lying
+  robot::PhaseClock fadeClock = clock;
+  robot::carryPhase(prone.prior, standup.prior, &clock);
+  ASSERT_EQ(clock.tp, 0);
+  const std::array<float, robot::kActionSize> zero{};
+  int standTick = -1, fallTick = -1;
+  double lowestAfter = 10, tiltAfter = 0;
+  for (int tick = 1; tick <= 800; ++tick) {
+    clock.advance(standup.prior, none);
+    robot::PdCommand pd;
+    robot::skillPdCommand(model, standup, zero, clock, none, &pd);
+    if (tick <= robot::kSwitchFadeTicks) {
+      fadeClock.advance(prone.prior, none);
+      robot::fadePrior(model, prone, fadeClock, standup, clock, none,
+                       double(robot::kSwitchFadeTicks - tick + 1) / robot::kSwitchFadeTicks, &pd);
+    }
+    r.setCommand(pd);
+    for (int k = 0; k < game::kSubsteps; ++k) {
+      r.applyPd(world);
+      world.step(game::kSubstepSeconds);
+    }
+    const robot::Sensors s = r.sense(world);
+    if (standTick < 0 && s.basePosition.z() >= 0.70 && s.tilt < 10.0 * M_PI / 180.0) standTick = tick;
+    if (standTick > 0) lowestAfter = std::min(lowestAfter, s.basePosition.z()), tiltAfter = std::max(tiltAfter, s.tilt);
+    if (fallTick < 0 && robot::hasFallen(standup.termination, s)) fallTick = tick;
+  }
+  std::printf("stand-up prior: standing %.2f s after the switch; afterwards pelvis >= %.2f m, tilt <= %.0f deg\n",
+              standTick * 0.01, lowestAfter, tiltAfter * 180.0 / M_PI);
+  EXPECT_GT(standTick, 0);
+  EXPECT_LE(standTick, 500);
+  EXPECT_EQ(fallTick, -1);
+  EXPECT_LE(standTick, 800 - 200);   // 2 s or more of standing were checked
+  EXPECT_GT(lowestAfter, 0.65);      // it did not sink back
+  EXPECT_LT(tiltAfter, 20.0 * M_PI / 180.0);
+}
