@@ -161,6 +161,7 @@ SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const S
   target = wanted;
   const double lo = std::max(lowestSpeed(from), lowestSpeed(to)), hi = std::min(topSpeed(from), topSpeed(to));
   target.vx = std::clamp(wanted.vx, lo, std::max(lo, hi));
+  if (target.vx != wanted.vx && target.vx != 0) target.vy = target.wz = 0;  // the keys' interlock: vx alone moves
   return target;
 }
 

@@ -248,4 +248,8 @@ TEST(Switching, ASlowerSkillWaitsForThePelvisToSlowToItsTopSpeed) {
   robot::SkillDef sprint = run;
   sprint.commands.wz = {0.0, 0.0};
   EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(walk, sprint, keys).vx, 0.8);
+  keys.vx = 0, keys.wz = 0.5;  // turning: the interlock would hold vx at 0, so the brake drops the turn
+  EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(walk, sprint, keys).vx, 0.8);
+  EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(walk, sprint, keys).wz, 0.0);
+  EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(walk, run, keys).wz, 0.5);  // the run turns on the spot: kept
 }
