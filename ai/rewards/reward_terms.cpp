@@ -1,6 +1,7 @@
 // reward_terms.cpp — the term table. Angles in the orientation term are in degrees, as in the paper.
 #include "ai/rewards/reward_terms.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/core/error.h"
@@ -54,6 +55,15 @@ double footLift(const RewardContext& c) {
   const double lift = c.skill->prior.hasLate ? late : c.command->amplitude;
   const double e = (c.sensors->footHeight[1] - kFootLiftHeight * lift) / 0.04;
   return std::exp(-e * e);
+}
+double footClear(const RewardContext& c) {
+  // how far the right sole is on its way up to the lift asked (1 when no lift is asked): unlike foot_lift's bump
+  // around the target it pays for every centimetre, so a policy standing on both feet feels the way up
+  double first, late;
+  robot::poseStages(c.skill->prior, c.command->amplitude, &first, &late);
+  const double lift = kFootLiftHeight * (c.skill->prior.hasLate ? late : c.command->amplitude);
+  if (lift < 0.005) return 1.0;
+  return std::clamp(c.sensors->footHeight[1] / lift, 0.0, 1.0);
 }
 double jumpHeight(const RewardContext& c) {
   return std::min(1.5, std::max(0.0, c.sensors->basePosition.z() - kStandingPelvisHeight) / 0.10);
@@ -115,6 +125,7 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"prone_pitch", &pronePitch, "exp(-((pitch_forward - 90 deg) / 25 deg)^2): face down (robot::forwardPitch)"},
       {"prone_height", &proneHeight, "exp(-(max(0, h - 0.12 m) / 0.15 m)^2): the pelvis down on the ground"},
       {"side_level", &sideLevel, "-0.05 |side lean_deg| (robot::sideLean: not rolled onto a side)"},
+      {"foot_clear", &footClear, "clamp(h_right_sole / (0.12 m lift), 0, 1); 1 when no lift is asked (lift as for foot_lift)"},
       {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m lift) / 0.04 m)^2), lift = amplitude or a two-stage pose's late weight"},
   };
   return kTable;

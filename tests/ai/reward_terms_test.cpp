@@ -50,6 +50,15 @@ TEST(RewardTerms, HeightAndFootTermsPeakAtTheirTargets) {
   c.command.amplitude = 1.0;
   c.sensors.footHeight = {0.0, 0.12};
   EXPECT_NEAR(term("foot_lift", c.get()), 1.0, 1e-12);
+  EXPECT_NEAR(term("foot_clear", c.get()), 1.0, 1e-12);
+  c.sensors.footHeight = {0.0, 0.03};  // a quarter of the way up: foot_clear pays a quarter, foot_lift almost nothing
+  EXPECT_NEAR(term("foot_clear", c.get()), 0.25, 1e-12);
+  EXPECT_NEAR(term("foot_lift", c.get()), std::exp(-(0.09 / 0.04) * (0.09 / 0.04)), 1e-12);
+  c.sensors.footHeight = {0.0, 0.20};  // higher than asked: still 1
+  EXPECT_NEAR(term("foot_clear", c.get()), 1.0, 1e-12);
+  c.command.amplitude = 0.0;  // no lift asked
+  c.sensors.footHeight = {0.0, 0.0};
+  EXPECT_NEAR(term("foot_clear", c.get()), 1.0, 1e-12);
   c.sensors.basePosition.z() = 0.784 + 0.05;  // half-way to a counted jump
   EXPECT_NEAR(term("jump_height", c.get()), 0.5, 1e-9);
   c.sensors.footContact = {false, false};
