@@ -131,7 +131,7 @@ void Session::controlSystem() {
         brake_ = keysCommand;
       }
       brakeTarget_ = robot::switchBrakeTarget(active_->def, next->def, keysCommand);
-      ready = robot::readyForSwitch(next->def, brakeTarget_, brake_, sensors_) || restWaitTicks_ >= robot::maxSwitchWaitTicks(next->def);
+      ready = robot::readyForSwitch(active_->def, next->def, brakeTarget_, brake_, sensors_) || restWaitTicks_ >= robot::maxSwitchWaitTicks(next->def);
     }
     if (next && ready) {
       switchTo(next);

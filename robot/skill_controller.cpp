@@ -165,13 +165,16 @@ SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const S
   return target;
 }
 
-bool readyForSwitch(const SkillDef& to, const SkillCommand& target, const SkillCommand& brake, const Sensors& sensors) {
+bool readyForSwitch(const SkillDef& from, const SkillDef& to, const SkillCommand& target, const SkillCommand& brake,
+                    const Sensors& sensors) {
   if (isStillSkill(to)) return commandIsZero(brake) && atRestForSwitch(sensors);
   const Eigen::Vector3d v = sensors.baseRotation * sensors.linearVelocity;
   Eigen::Vector2d heading = (sensors.baseRotation * Eigen::Vector3d::UnitX()).head<2>();
   if (heading.norm() < 1e-6) return false;  // pitched straight up or down: no heading to move along
   const double forward = v.head<2>().dot(heading.normalized());
-  return std::abs(brake.vx - target.vx) < 1e-9 && std::abs(forward - target.vx) <= kSlowMargin;
+  const double lo = std::max(lowestSpeed(from), lowestSpeed(to)), hi = std::max(lo, std::min(topSpeed(from), topSpeed(to)));
+  const double slowest = std::max(lo - kSlowMargin, target.vx - kTargetSlack);
+  return std::abs(brake.vx - target.vx) < 1e-9 && forward >= slowest && forward <= hi + kSlowMargin;
 }
 
 double forwardPitch(const Sensors& s) {

@@ -90,10 +90,13 @@ bool atRestForSwitch(const Sensors& sensors);
 /// keyboard's interlock trains it at vx = 0) and hi the smaller of their top speeds. When `from` may move outside
 /// that band (run at 2 m/s -> walk, top 1.2 m/s; walking backward -> run, which never backs up), `from`'s command
 /// ramps to the keys' command clamped into the band
-/// (switchBrakeTarget) and the switch waits until the pelvis's forward speed is within kSlowMargin of it, or
+/// (switchBrakeTarget) and the switch waits until the pelvis's forward speed is within kSlowMargin of the band, or
 /// kMaxSlowWaitTicks at most. (Without it the walk took over from a 2 m/s run and fell in 1 of 10 trials of `eval
 /// switches`, 4 of 9 with S pressed at the switch; the run took over from a backward walk and fell in 3 of 40.)
 constexpr double kSlowMargin = 0.25;
+/// ... and no slower than the target less this (a walk commanded 1.2 m/s walks 0.8: it hands over to the run then,
+/// but not while it is still turning round from walking backward, where the run fell in 3 of 40 trials).
+constexpr double kTargetSlack = 0.5;
 /// The longest a switch into a moving skill waits for its speed (a 2 m/s run needs ~1 s to brake to a standstill).
 constexpr int kMaxSlowWaitTicks = 250;
 /// The longest a switch from `from` to `to` waits: kMaxRestWaitTicks into a still skill, else kMaxSlowWaitTicks.
@@ -105,8 +108,10 @@ bool switchWaits(const SkillDef& from, const SkillDef& to);
 /// walk's 1.2 m/s, not on toward an S key's -0.6, which it never trained for).
 SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const SkillCommand& wanted);
 /// True when the waiting switch may happen: the braking command `brake` has reached `target` (the
-/// switchBrakeTarget) and the pelvis has come to rest (still `to`) or within kSlowMargin of the target's speed.
-bool readyForSwitch(const SkillDef& to, const SkillCommand& target, const SkillCommand& brake, const Sensors& sensors);
+/// switchBrakeTarget) and the pelvis has come to rest (still `to`) or moves forward within kSlowMargin of the
+/// band both skills train at and no slower than kTargetSlack below the target.
+bool readyForSwitch(const SkillDef& from, const SkillDef& to, const SkillCommand& target, const SkillCommand& brake,
+                    const Sensors& sensors);
 /// The gait counter at a switch keeps its fraction of the cycle under the new skill's period; a keyframes prior
 /// starts its motion from the beginning (tp = 0).
 void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase);

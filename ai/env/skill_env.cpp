@@ -195,7 +195,7 @@ bool SkillEnv::handOver(Env& e) {
     if (t >= drive) {
       if (!waits) break;
       target = robot::switchBrakeTarget(p, skill_, target);
-      if (robot::readyForSwitch(skill_, target, command, e.sensors) || t - drive >= robot::maxSwitchWaitTicks(skill_)) break;
+      if (robot::readyForSwitch(p, skill_, target, command, e.sensors) || t - drive >= robot::maxSwitchWaitTicks(skill_)) break;
     }
     engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,
                                 &command.wz);

@@ -184,8 +184,9 @@ TEST(Session, AStillSkillWaitsUntilTheCommandHasRampedToZeroAndTheRobotRests) {
 
 TEST(Session, ASlowerSkillTakesOverOnceTheCommandHasRampedToItsTopSpeed) {
   // run (no gait, zero action: the robot stands) with W held for 1 s: vx = 2.0 m/s, the run's top. The walk key
-  // brakes the run's command at the keys' 0.02 m/s per tick to the walk's top, 1.2 m/s: 40 ticks. The pelvis
-  // stands (0 m/s, not within kSlowMargin of 1.2), so the walk takes over at the longest wait, 250 ticks.
+  // brakes the run's command at the keys' 0.02 m/s per tick to the walk's top, 1.2 m/s: 40 ticks. The standing
+  // pelvis is within the 0-1.2 m/s both train at but more than kTargetSlack below the command, so the walk takes
+  // over at the longest wait, 250 ticks.
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
@@ -209,8 +210,7 @@ TEST(Session, ASlowerSkillTakesOverOnceTheCommandHasRampedToItsTopSpeed) {
   while (s.activeSkillName() != "walk" && s.tick() < key + 300) s.step({});
   ASSERT_EQ(s.activeSkillName(), "walk");
   EXPECT_EQ(s.telemetry().switches.back().tick - key, robot::kMaxSlowWaitTicks);
-  // back to the run with W still held: the walk's command goes to 1.2 m/s, which the standing pelvis never
-  // reaches, so the switch waits its longest
+  // back to the run with W still held: the keys' 2.0 m/s, clamped to the band, is 1.2 again: the longest wait
   const int64_t back = s.tick();
   s.step({{back, engine::KeyAction::kTap, '1'}});
   while (s.activeSkillName() != "run" && s.tick() < back + 300) s.step({});
@@ -225,16 +225,24 @@ TEST(Switching, ASlowerSkillWaitsForThePelvisToSlowToItsTopSpeed) {
   brake.vx = target.vx = 1.2;  // W held: the brake's target is the walk's top
   robot::Sensors moving;
   moving.linearVelocity = Eigen::Vector3d(1.5, 0, 0);  // upright, facing +X: body frame = world frame
-  EXPECT_FALSE(robot::readyForSwitch(walk, target, brake, moving));  // 0.3 m/s too fast (kSlowMargin 0.25)
+  EXPECT_FALSE(robot::readyForSwitch(run, walk, target, brake, moving));  // above the 0-1.2 band + kSlowMargin 0.25
   moving.linearVelocity = Eigen::Vector3d(1.4, 0, 0);
-  EXPECT_TRUE(robot::readyForSwitch(walk, target, brake, moving));
-  brake.vx = 1.3;  // the command has not come down to the walk's top yet
-  EXPECT_FALSE(robot::readyForSwitch(walk, target, brake, moving));
-  brake.vx = target.vx = 0.0;  // no key: the run brakes to a stop (it trains at vx = 0 too, turning on the spot)
+  EXPECT_TRUE(robot::readyForSwitch(run, walk, target, brake, moving));
+  brake.vx = 1.3;  // the command has not come down to its target yet
+  EXPECT_FALSE(robot::readyForSwitch(run, walk, target, brake, moving));
+  brake.vx = target.vx = 0.0;  // no key: the run brakes to a stop, but any speed of the band will do for the walk
   moving.linearVelocity = Eigen::Vector3d(1.0, 0, 0);
-  EXPECT_FALSE(robot::readyForSwitch(walk, target, brake, moving));
-  moving.linearVelocity = Eigen::Vector3d(0.2, 0, 0);
-  EXPECT_TRUE(robot::readyForSwitch(walk, target, brake, moving));
+  EXPECT_TRUE(robot::readyForSwitch(run, walk, target, brake, moving));
+  // walking backward into the run (which never backs up): ready once no faster than kSlowMargin backward
+  moving.linearVelocity = Eigen::Vector3d(-0.5, 0, 0);
+  EXPECT_FALSE(robot::readyForSwitch(walk, run, target, brake, moving));
+  moving.linearVelocity = Eigen::Vector3d(-0.2, 0, 0);
+  EXPECT_TRUE(robot::readyForSwitch(walk, run, target, brake, moving));
+  moving.linearVelocity = Eigen::Vector3d(0.8, 0, 0);  // the walk at its real pace under a 1.2 m/s command
+  brake.vx = target.vx = 1.2;
+  EXPECT_TRUE(robot::readyForSwitch(walk, run, target, brake, moving));
+  moving.linearVelocity = Eigen::Vector3d(0.2, 0, 0);  // still coming round from backward: not yet (1.2 - 0.5)
+  EXPECT_FALSE(robot::readyForSwitch(walk, run, target, brake, moving));
   // the brake aims at the keys' command clamped into the speeds both skills train at: 0-1.2 m/s for run <-> walk
   // (the run never backs up): W held (2.0) -> 1.2; S held (-0.6) -> 0, whichever way the switch goes
   robot::SkillCommand keys;
