@@ -146,6 +146,11 @@ double lowestSpeed(const SkillDef& s) {
   return c.vx.lo > 0 && !sideways ? c.vx.lo : std::min(c.vx.lo, 0.0);
 }
 double topSpeed(const SkillDef& s) { return std::max(s.commands.vx.hi, 0.0); }
+// the forward speeds both skills train at: [larger lowest, smaller top] (never empty: hi >= lo)
+void speedBand(const SkillDef& from, const SkillDef& to, double* lo, double* hi) {
+  *lo = std::max(lowestSpeed(from), lowestSpeed(to));
+  *hi = std::max(*lo, std::min(topSpeed(from), topSpeed(to)));
+}
 }  // namespace
 
 int maxSwitchWaitTicks(const SkillDef& to) { return isStillSkill(to) ? kMaxRestWaitTicks : kMaxSlowWaitTicks; }
@@ -159,8 +164,9 @@ SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const S
   SkillCommand target;
   if (isStillSkill(to)) return target;
   target = wanted;
-  const double lo = std::max(lowestSpeed(from), lowestSpeed(to)), hi = std::min(topSpeed(from), topSpeed(to));
-  target.vx = std::clamp(wanted.vx, lo, std::max(lo, hi));
+  double lo, hi;
+  speedBand(from, to, &lo, &hi);
+  target.vx = std::clamp(wanted.vx, lo, hi);
   if (target.vx != wanted.vx && target.vx != 0) target.vy = target.wz = 0;  // the keys' interlock: vx alone moves
   return target;
 }
@@ -172,7 +178,8 @@ bool readyForSwitch(const SkillDef& from, const SkillDef& to, const SkillCommand
   Eigen::Vector2d heading = (sensors.baseRotation * Eigen::Vector3d::UnitX()).head<2>();
   if (heading.norm() < 1e-6) return false;  // pitched straight up or down: no heading to move along
   const double forward = v.head<2>().dot(heading.normalized());
-  const double lo = std::max(lowestSpeed(from), lowestSpeed(to)), hi = std::max(lo, std::min(topSpeed(from), topSpeed(to)));
+  double lo, hi;
+  speedBand(from, to, &lo, &hi);
   const double slowest = std::max(lo - kSlowMargin, target.vx - kTargetSlack);
   return std::abs(brake.vx - target.vx) < 1e-9 && forward >= slowest && forward <= hi + kSlowMargin;
 }

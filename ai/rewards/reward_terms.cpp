@@ -48,20 +48,20 @@ double actionRate(const RewardContext& c) {
   return -sum;
 }
 double verticalVelocity(const RewardContext& c) { return -std::abs(c.sensors->linearVelocity.z()); }
-double footLift(const RewardContext& c) {
-  // a two-stage pose lifts the foot in its late stage only
+// the right sole's height asked [m]: a two-stage pose lifts the foot in its late stage only
+double askedLift(const RewardContext& c) {
   double first, late;
   robot::poseStages(c.skill->prior, c.command->amplitude, &first, &late);
-  const double lift = c.skill->prior.hasLate ? late : c.command->amplitude;
-  const double e = (c.sensors->footHeight[1] - kFootLiftHeight * lift) / 0.04;
+  return kFootLiftHeight * (c.skill->prior.hasLate ? late : c.command->amplitude);
+}
+double footLift(const RewardContext& c) {
+  const double e = (c.sensors->footHeight[1] - askedLift(c)) / 0.04;
   return std::exp(-e * e);
 }
 double footClear(const RewardContext& c) {
   // how far the right sole is on its way up to the lift asked (1 when no lift is asked): unlike foot_lift's bump
   // around the target it pays for every centimetre, so a policy standing on both feet feels the way up
-  double first, late;
-  robot::poseStages(c.skill->prior, c.command->amplitude, &first, &late);
-  const double lift = kFootLiftHeight * (c.skill->prior.hasLate ? late : c.command->amplitude);
+  const double lift = askedLift(c);
   if (lift < 0.005) return 1.0;
   return std::clamp(c.sensors->footHeight[1] / lift, 0.0, 1.0);
 }

@@ -17,17 +17,22 @@ const robot::SkillTree& shippedTree() {
   return tree;
 }
 
+// one control tick of given PD targets: the physics substeps with PD every substep
+void stepPd(const robot::PdCommand& pd, robot::Robot& r, engine::PhysicsWorld& world) {
+  r.setCommand(pd);
+  for (int k = 0; k < game::kSubsteps; ++k) {
+    r.applyPd(world);
+    world.step(game::kSubstepSeconds);
+  }
+}
+
 // one control tick of the skill's prior alone (zero policy output): PD targets, then the physics substeps
 void stepPriorOnly(const robot::SkillDef& skill, const robot::PhaseClock& clock, const robot::SkillCommand& command,
                    robot::Robot& r, engine::PhysicsWorld& world) {
   const std::array<float, robot::kActionSize> zero{};
   robot::PdCommand pd;
   robot::skillPdCommand(fixtures::robotModel(), skill, zero, clock, command, &pd);
-  r.setCommand(pd);
-  for (int k = 0; k < game::kSubsteps; ++k) {
-    r.applyPd(world);
-    world.step(game::kSubstepSeconds);
-  }
+  stepPd(pd, r, world);
 }
 
 }  // namespace
@@ -217,11 +222,7 @@ TEST(PosePrior, StandUpKeyframesAloneRaiseTheProneRobotWithinFiveSecondsAndItSta
       robot::fadePrior(model, prone, fadeClock, standup, clock, none,
                        double(robot::kSwitchFadeTicks - tick + 1) / robot::kSwitchFadeTicks, &pd);
     }
-    r.setCommand(pd);
-    for (int k = 0; k < game::kSubsteps; ++k) {
-      r.applyPd(world);
-      world.step(game::kSubstepSeconds);
-    }
+    stepPd(pd, r, world);
     const robot::Sensors s = r.sense(world);
     if (standTick < 0 && s.basePosition.z() >= 0.70 && s.tilt < 10.0 * M_PI / 180.0) standTick = tick;
     if (standTick > 0) lowestAfter = std::min(lowestAfter, s.basePosition.z()), tiltAfter = std::max(tiltAfter, s.tilt);
