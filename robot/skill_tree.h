@@ -149,7 +149,10 @@ struct CardDef {
   /// Prone: from standing, success = the torso link below prone_height with the forward pitch within
   /// prone_pitch_deg, reached within prone_s and still so at the end of the episode, without a fall; the peak
   /// pelvis acceleration (the impact) is reported.
-  enum class Kind { None, Velocity, Height, Balance, Stairs, Jump, Kick, Prone } kind = Kind::None;
+  /// StandUp: each episode starts standing under the parent skill's model (prone), which lies down for lie_s;
+  /// then the switch to this skill as the runtime makes it; success = standing (robot::hasStoodUp: pelvis >= 0.70 m,
+  /// tilt < 10 deg) within rise_s of the switch, then the `up` skill (walk) taking over there and after_s with no fall.
+  enum class Kind { None, Velocity, Height, Balance, Stairs, Jump, Kick, Prone, StandUp } kind = Kind::None;
   int episodes = 50;            ///< randomised episodes (friction, mass, pushes as in training)
   double episodeSeconds = 20;   ///< each episode's length
   double segmentSeconds = 5;    ///< a new command this often
@@ -171,7 +174,7 @@ struct CardDef {
   double speedError = -1;       ///< bar: mean |v - v_cmd| [m/s] (<=)
   double yawError = -1;         ///< bar: mean |wz - wz_cmd| [rad/s] (<=)
   double heightError = -1;      ///< bar: mean |h - h_target(amplitude)| of the pelvis [m] (<=)
-  double liftHeight = 0.08;     ///< Balance: the right sole counts as lifted at this height [m] ...
+  double liftHeight = 0.08;     ///< Balance: the right sole counts as lifted at this height [m], the right foot off the ground and the left on it ...
   double liftSeconds = 5;       ///< ... and an episode succeeds when it stays lifted this long in one go
   double stepHeight = 0.15;     ///< Stairs: the staircase's step height [m]
   double jumpHeight = 0.10;     ///< Jump: apex above the starting pelvis height [m] ...
@@ -182,6 +185,9 @@ struct CardDef {
   double proneSeconds = 3;      ///< Prone: lying within this time [s] ...
   double proneHeight = 0.35;    ///< ... with the torso link's origin below this [m] ...
   Range pronePitch{70, 110};    ///< ... and the forward pitch in this range [deg]
+  Range lieSeconds{3.0, 5.5};   ///< StandUp: the parent lies down this long (drawn per episode) [s] ...
+  double riseSeconds = 5;       ///< ... the skill stands within this time of the switch [s] ...
+  double afterSeconds = 3;      ///< ... and the up skill then runs this long without a fall [s]
 };
 
 /// One skill of the tree.

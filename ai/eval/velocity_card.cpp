@@ -221,7 +221,9 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         e.lying = torsoHeight < o.proneHeight && pitch >= o.pronePitch.lo && pitch <= o.pronePitch.hi;
         if (e.lying && e.proneTick < 0) e.proneTick = tick;
       }
-      const bool lifted = e.sensors.footHeight[1] >= o.liftHeight && e.sensors.footContact[0];
+      // lifted: on the left foot alone, the right sole at least liftHeight up (a folded leg's toe resting on the
+      // ground does not count, however high the ankle is)
+      const bool lifted = e.sensors.footHeight[1] >= o.liftHeight && e.sensors.footContact[0] && !e.sensors.footContact[1];
       e.liftRun = lifted ? e.liftRun + 1 : 0;
       e.longestLift = std::max(e.longestLift, e.liftRun);
       if (e.pushes && tick >= e.nextPush) {

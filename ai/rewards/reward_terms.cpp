@@ -54,7 +54,11 @@ double askedLift(const RewardContext& c) {
   robot::poseStages(c.skill->prior, c.command->amplitude, &first, &late);
   return kFootLiftHeight * (c.skill->prior.hasLate ? late : c.command->amplitude);
 }
+// a lift asked and the right foot on the ground (the toe of a folded leg resting there, the pelvis lowered to
+// it: the one-leg stand's 19 M-step policy "held" the sole 4-5 cm up with 130-170 N on the right foot) pays nothing
+bool liftedFootDown(const RewardContext& c) { return askedLift(c) >= 0.005 && c.sensors->footContact[1]; }
 double footLift(const RewardContext& c) {
+  if (liftedFootDown(c)) return 0.0;
   const double e = (c.sensors->footHeight[1] - askedLift(c)) / 0.04;
   return std::exp(-e * e);
 }
@@ -63,6 +67,7 @@ double footClear(const RewardContext& c) {
   // around the target it pays for every centimetre, so a policy standing on both feet feels the way up
   const double lift = askedLift(c);
   if (lift < 0.005) return 1.0;
+  if (liftedFootDown(c)) return 0.0;
   return std::clamp(c.sensors->footHeight[1] / lift, 0.0, 1.0);
 }
 double jumpHeight(const RewardContext& c) {
@@ -100,6 +105,13 @@ double proneHeight(const RewardContext& c) {
   return std::exp(-e * e);
 }
 double sideLevel(const RewardContext& c) { return -0.05 * std::abs(robot::sideLean(*c.sensors) * kDeg); }
+// the stand-up (issue 5): the way from lying (pelvis on the ground) up to standing, the trunk coming upright, and
+// standing as the card and the runtime's hand-over to the walk count it (robot::hasStoodUp)
+double standHeight(const RewardContext& c) {
+  return std::clamp((c.sensors->basePosition.z() - kPronePelvisHeight) / (robot::kStoodPelvisHeight - kPronePelvisHeight), 0.0, 1.0);
+}
+double upright(const RewardContext& c) { return std::max(0.0, std::cos(c.sensors->tilt)); }
+double stood(const RewardContext& c) { return robot::hasStoodUp(*c.sensors) ? 1.0 : 0.0; }
 
 }  // namespace
 
@@ -125,8 +137,11 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"prone_pitch", &pronePitch, "exp(-((pitch_forward - 90 deg) / 25 deg)^2): face down (robot::forwardPitch)"},
       {"prone_height", &proneHeight, "exp(-(max(0, h - 0.12 m) / 0.15 m)^2): the pelvis down on the ground"},
       {"side_level", &sideLevel, "-0.05 |side lean_deg| (robot::sideLean: not rolled onto a side)"},
-      {"foot_clear", &footClear, "clamp(h_right_sole / (0.12 m lift), 0, 1); 1 when no lift is asked (lift as for foot_lift)"},
-      {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m lift) / 0.04 m)^2), lift = amplitude or a two-stage pose's late weight"},
+      {"stand_height", &standHeight, "clamp((h - 0.12 m) / (0.70 m - 0.12 m), 0, 1): from lying up to standing"},
+      {"upright", &upright, "max(0, cos tilt): the pelvis upright"},
+      {"stood", &stood, "1 while standing: pelvis >= 0.70 m and tilt < 10 deg (robot::hasStoodUp)"},
+      {"foot_clear", &footClear, "clamp(h_right_sole / (0.12 m lift), 0, 1); 1 when no lift is asked, 0 while the right foot touches the ground (lift as for foot_lift)"},
+      {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m lift) / 0.04 m)^2), lift = amplitude or a two-stage pose's late weight; 0 while the right foot touches the ground"},
   };
   return kTable;
 }

@@ -56,6 +56,12 @@ TEST(RewardTerms, HeightAndFootTermsPeakAtTheirTargets) {
   EXPECT_NEAR(term("foot_lift", c.get()), std::exp(-(0.09 / 0.04) * (0.09 / 0.04)), 1e-12);
   c.sensors.footHeight = {0.0, 0.20};  // higher than asked: still 1
   EXPECT_NEAR(term("foot_clear", c.get()), 1.0, 1e-12);
+  c.sensors.footHeight = {0.0, 0.12};  // at the height asked but touching the ground (a folded leg's toe): nothing
+  c.sensors.footContact = {true, true};
+  EXPECT_EQ(term("foot_clear", c.get()), 0.0);
+  EXPECT_EQ(term("foot_lift", c.get()), 0.0);
+  c.sensors.footContact = {true, false};
+  EXPECT_NEAR(term("foot_lift", c.get()), 1.0, 1e-12);
   c.command.amplitude = 0.0;  // no lift asked
   c.sensors.footHeight = {0.0, 0.0};
   EXPECT_NEAR(term("foot_clear", c.get()), 1.0, 1e-12);
@@ -116,4 +122,26 @@ TEST(RewardTerms, HoldPositionPenalisesTheDistanceFromTheAnchorAtAZeroCommand) {
   EXPECT_NEAR(term("hold_position", ctx), -0.5, 1e-12);
   c.command.wz = 0.5;  // turning: not held
   EXPECT_EQ(term("hold_position", ctx), 0.0);
+}
+
+TEST(RewardTerms, StandUpTermsGrowFromLyingToStanding) {
+  Context c;
+  c.sensors.basePosition.z() = 0.12;  // lying: the pelvis on the ground, face down
+  c.sensors.tilt = M_PI / 2;
+  EXPECT_NEAR(term("stand_height", c.get()), 0.0, 1e-12);
+  EXPECT_NEAR(term("upright", c.get()), 0.0, 1e-12);
+  EXPECT_EQ(term("stood", c.get()), 0.0);
+  c.sensors.basePosition.z() = 0.41;  // half-way up (0.12 + 0.29 of the 0.58 m), the trunk at 60 deg
+  c.sensors.tilt = M_PI / 3;
+  EXPECT_NEAR(term("stand_height", c.get()), 0.5, 1e-12);
+  EXPECT_NEAR(term("upright", c.get()), 0.5, 1e-12);
+  EXPECT_EQ(term("stood", c.get()), 0.0);
+  c.sensors.basePosition.z() = 0.75;  // up, but 12 deg off upright: not standing yet
+  c.sensors.tilt = 12.0 * M_PI / 180.0;
+  EXPECT_NEAR(term("stand_height", c.get()), 1.0, 1e-12);
+  EXPECT_EQ(term("stood", c.get()), 0.0);
+  c.sensors.tilt = 5.0 * M_PI / 180.0;  // standing
+  EXPECT_EQ(term("stood", c.get()), 1.0);
+  c.sensors.basePosition.z() = 0.69;  // 1 cm short of the stand
+  EXPECT_EQ(term("stood", c.get()), 0.0);
 }
