@@ -68,6 +68,30 @@ struct Trial {
 
 constexpr double kWindowSeconds = 0.2;  // the window around the switch (and the earlier reference window)
 constexpr double kAfterSeconds = 3.0;   // no fall for this long after the switch
+constexpr double kMaxWaitSeconds = 6.0;  // a switch may wait this long after its key (a stand-up: until it stands)
+
+// The moments of a trial's key taps. A skill entered lying down (the stand-up: its parent is a ground skill) is
+// reached as in play: its parent's key at 0 and its own once the parent has lain down. A ground skill is left once
+// it lies (3-5 s: prone lies face down from ~2.2 s); an upright one at a random gait phase 2-4 s in.
+struct TrialPlan {
+  char firstKey = 0, secondKey = 0;  // tapped at 0 and at secondTick (0: none)
+  int64_t secondTick = 0, switchTick = 0;
+};
+
+TrialPlan planTrial(const game::SkillSet& skills, const game::SkillRuntime& from, std::mt19937_64& rng) {
+  TrialPlan p;
+  const game::SkillRuntime* parent = from.def.parent.empty() ? nullptr : skills.byName(from.def.parent);
+  const bool entersLying = parent && robot::isGroundSkill(parent->def);
+  p.firstKey = char('0' + (entersLying ? parent->def.key : from.def.key));
+  if (entersLying) {
+    p.secondKey = char('0' + from.def.key);
+    p.secondTick = engine::secondsToTicks(3.5);
+    p.switchTick = p.secondTick + engine::secondsToTicks(1.0 + 3.0 * unit(rng));  // the stand-up waits for the stand
+  } else {
+    p.switchTick = engine::secondsToTicks((robot::isGroundSkill(from.def) ? 3.0 : 2.0) + 2.0 * unit(rng));
+  }
+  return p;
+}
 
 Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const game::SkillSet& skills,
                const game::SkillRuntime& from, const game::SkillRuntime& to, uint64_t seed) {
@@ -75,8 +99,12 @@ Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const
   const std::vector<char> keysA = movementKeys(from.def.commands), keysB = movementKeys(to.def.commands);
   const char keyA = keysA[size_t(unit(rng) * double(keysA.size()))];
   const char keyB = keysB[size_t(unit(rng) * double(keysB.size()))];
-  const int64_t switchTick = engine::secondsToTicks(2.0 + 2.0 * unit(rng));  // a random gait phase
-  const int64_t endTick = switchTick + engine::secondsToTicks(kAfterSeconds);
+  const TrialPlan plan = planTrial(skills, from, rng);
+  const int64_t switchTick = plan.switchTick;
+  // no fall for kAfterSeconds after the switch itself (a stand-up hands over once the robot stands), at most
+  // kMaxWaitSeconds after the key
+  const int64_t lastTick = switchTick + engine::secondsToTicks(kMaxWaitSeconds + kAfterSeconds);
+  int64_t endTick = lastTick;
   const int64_t half = engine::secondsToTicks(kWindowSeconds / 2);
   const int64_t reference = switchTick - engine::secondsToTicks(1.0);
 
@@ -87,7 +115,8 @@ Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const
   robot::JointArray lastTarget = s.robot().command().target;
   for (int64_t tick = 0; tick < endTick && !s.fallen(); ++tick) {
     std::vector<engine::KeyEvent> ev;
-    if (tick == 0) ev.push_back({tick, engine::KeyAction::kTap, char('0' + from.def.key)});
+    if (tick == 0) ev.push_back({tick, engine::KeyAction::kTap, plan.firstKey});
+    if (plan.secondKey && tick == plan.secondTick) ev.push_back({tick, engine::KeyAction::kTap, plan.secondKey});
     if (tick == engine::secondsToTicks(0.5) && keyA) ev.push_back({tick, engine::KeyAction::kDown, keyA});
     if (tick == switchTick) {
       if (keyA) ev.push_back({tick, engine::KeyAction::kUp, keyA});
@@ -110,8 +139,10 @@ Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const
       t.accelBefore = std::max(t.accelBefore, accel);
       t.targetBefore = std::max(t.targetBefore, targetStep);
     }
-    if (t.latencyTicks < 0 && tick >= switchTick && s.activeSkillName() == to.def.name)
+    if (t.latencyTicks < 0 && tick >= switchTick && s.activeSkillName() == to.def.name) {
       t.latencyTicks = double(tick - switchTick);
+      endTick = std::min(lastTick, tick + engine::secondsToTicks(kAfterSeconds));
+    }
   }
   t.switched = t.latencyTicks >= 0;
   t.upright = !s.fallen();
@@ -154,9 +185,10 @@ int runSwitchEval(const SwitchEvalOptions& o) {
   if (pairs.empty())
     throw engine::Error("eval switches: no two connected skills have models yet (loaded: " +
                         std::to_string(skills.skills.size()) + "); train a branch first");
-  std::printf("switch report: %zu allowed switches x %d trials on levels/flat (random moment 2-4 s, random movement "
-              "keys before and after; success = switched and no fall for %.0f s)\n",
-              pairs.size(), o.trials, kAfterSeconds);
+  std::printf("switch report: %zu allowed switches x %d trials on levels/flat (random moment 2-4 s, from lying 3-5 s, "
+              "out of a stand-up 1-4 s into it; random movement keys before and after; success = switched within %.0f s "
+              "of the key and no fall for %.0f s after the switch)\n",
+              pairs.size(), o.trials, kMaxWaitSeconds, kAfterSeconds);
   std::printf("  %-22s %8s %9s   %-27s %-27s\n", "switch", "success", "latency", "peak CoM accel [m/s^2]",
               "peak target step [rad]");
   std::printf("  %-22s %8s %9s   %-27s %-27s\n", "", "", "[ticks]", "around switch / 1 s before", "around switch / 1 s before");

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "ai/env/skill_env.h"
+#include "ai/eval/standup_card.h"
 #include "ai/eval/velocity_card.h"
 #include "ai/onnx/skill_metadata.h"
 #include "ai/onnx/policy_onnx.h"
@@ -49,6 +50,36 @@ Loaded loadSkill(const std::string& name) {
     throw engine::Error("unknown skill '" + name + "' (the tree at " + l.tree.path + " has: " + names + ")");
   }
   return l;
+}
+
+// a skill's shipped (or, with modelsDir, trained) model as a driver of a card's other stages (a stand-up card's
+// parent lying down first and its up skill taking over)
+ai::DrivingSkill drivingSkill(const Loaded& l, const std::string& name, const std::string& modelsDir, const std::string& why) {
+  const robot::SkillDef* def = l.tree.find(name);
+  const std::string path = modelsDir + "/" + def->model;
+  if (!std::filesystem::exists(path))
+    throw engine::Error(path + ": the card of '" + l.skill->name + "' needs the model of '" + name + "' (" + why + "): train " + name + " first");
+  auto policy = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(path));
+  ai::checkModelMatchesSkill(*policy, path, l.model, *def, l.tree.path);
+  return {def, [policy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); }};
+}
+
+// the skills that drive a card's other stages: a standup card's parent (lying down first) and up skill (taking
+// over once standing); none for the other kinds
+struct CardDrivers {
+  ai::DrivingSkill before, after;
+};
+CardDrivers loadCardDrivers(const Loaded& l, const std::string& modelsDir) {
+  if (l.skill->card.kind != robot::CardDef::Kind::StandUp) return {};
+  return {drivingSkill(l, l.skill->parent, modelsDir, "it lies down first"),
+          drivingSkill(l, l.skill->up, modelsDir, "it takes over once standing")};
+}
+
+// runs the skill's card, whichever kind
+ai::CardResult runCard(const Loaded& l, const ai::PolicyFn& act, const ai::CardRun& run, const CardDrivers& drivers) {
+  if (run.card.kind == robot::CardDef::Kind::StandUp)
+    return ai::runStandUpCard(l.model, *l.skill, act, run, drivers.before, drivers.after);
+  return ai::runVelocityCard(l.model, *l.skill, act, run);
 }
 
 std::string cardText(const ai::CardResult& card) {
@@ -110,14 +141,15 @@ int runTrain(const TrainOptions& o) {
   options.evalEvery = std::max(1, o.evalEvery);
   options.updateThreads = o.threads;
   options.criticWarmupIterations = o.criticWarmup;
+  CardDrivers drivers;
   if (skill.card.kind != robot::CardDef::Kind::None && o.evalEvery > 0) {
+    drivers = loadCardDrivers(l, modelsDir);
     options.evaluate = [&](const ai::PolicyState& p) {
       ai::CardRun card{skill.card, 1000 + o.seed, o.threads};  // a fixed seed, so resumed runs score identically
       card.card.episodes = o.evalEpisodes;
       card.card.standEpisodes = std::min(4, skill.card.standEpisodes);
-      const ai::CardResult r = ai::runVelocityCard(
-          l.model, skill, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { ai::actDeterministic(p, obs, act); },
-          card);
+      const ai::CardResult r = runCard(
+          l, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { ai::actDeterministic(p, obs, act); }, card, drivers);
       std::printf("  eval: ");
       for (const auto& f : r.figures) std::printf("%s %.3f  ", f.name.c_str(), f.value);
       std::printf("-> score %.3f (%d-episode card %s)\n", r.score, card.card.episodes, r.pass ? "PASSES" : "fails");
@@ -251,14 +283,20 @@ int runEval(const EvalOptions& o) {
   ai::CardRun run{def, o.seed, o.threads};
   if (o.episodes > 0) run.card.episodes = o.episodes;
   char head[512];
-  std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
-                o.skill.c_str(), run.card.episodes, def.episodeSeconds, def.pushes ? "on" : "off", def.segmentSeconds,
-                def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
-                                     std::to_string(int(def.standSeconds)) + " s").c_str() : "",
-                onnxPath.c_str(), policy ? engine::toHex(ai::onnxFileHash(onnxPath)).c_str() : "-");
+  const std::string hash = policy ? engine::toHex(ai::onnxFileHash(onnxPath)) : "-";
+  if (def.kind == robot::CardDef::Kind::StandUp)
+    std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s (model %s, hash %s), "
+                  "then %s takes over once it stands\n", o.skill.c_str(), run.card.episodes, l.skill->parent.c_str(),
+                  def.lieSeconds.lo, def.lieSeconds.hi, o.skill.c_str(), onnxPath.c_str(), hash.c_str(), l.skill->up.c_str());
+  else
+    std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
+                  o.skill.c_str(), run.card.episodes, def.episodeSeconds, def.pushes ? "on" : "off", def.segmentSeconds,
+                  def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
+                                       std::to_string(int(def.standSeconds)) + " s").c_str() : "",
+                  onnxPath.c_str(), hash.c_str());
   std::fputs(head, stdout);
   std::fflush(stdout);
-  const ai::CardResult r = ai::runVelocityCard(l.model, *l.skill, act, run);
+  const ai::CardResult r = runCard(l, act, run, loadCardDrivers(l, l.tree.directory));
   const std::string text = head + cardText(r);
   std::fputs(text.c_str() + std::strlen(head), stdout);
   // the shipped model's card with the card's own episodes and seed is kept next to it (for `treelearn tree`);

@@ -120,7 +120,9 @@ void Session::controlSystem() {
     // to another ground skill or to its way up (a stand-up skill): it cannot hand a lying robot to the walk
     const bool ground = active_ && robot::isGroundSkill(active_->def);
     const bool handsOver = !active_ || !next || robot::mayHandOver(active_->def, next->def);
-    bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks);
+    // (and a stand-up hands over to the walk once the robot stands: robot::postureAllowsSwitch)
+    bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks) &&
+                 (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_));
     // into a still skill from rest, into a slower one at its top speed: the active skill brakes first
     if (next && ready && active_ && robot::switchWaits(active_->def, next->def)) {
       const engine::CommandState& c = input_.state();

@@ -210,6 +210,16 @@ bool mayHandOver(const SkillDef& from, const SkillDef& to) {
   return !isGroundSkill(from) || isGroundSkill(to) || to.name == from.up;
 }
 
+bool hasStoodUp(const Sensors& sensors) {
+  return sensors.basePosition.z() >= kStoodPelvisHeight && sensors.tilt < kStoodTiltDegrees * M_PI / 180.0;
+}
+
+bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors) {
+  if (!isGroundSkill(from) || isGroundSkill(to)) return true;
+  const double vz = (sensors.baseRotation * sensors.linearVelocity).z();
+  return hasStoodUp(sensors) && atRestForSwitch(sensors) && std::abs(vz) < kRestSpeed;
+}
+
 void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase) {
   if (to.kind == PriorDef::Kind::Keyframes) {
     phase->tp = 0;

@@ -81,6 +81,18 @@ inline bool isGroundSkill(const SkillDef& skill) { return skill.termination.maxF
 /// robot only to another ground skill or to its `up` skill (a stand-up), never straight to an upright skill.
 bool mayHandOver(const SkillDef& from, const SkillDef& to);
 
+/// Standing again after a stand-up (issue 5): pelvis at least kStoodPelvisHeight [m] up, tilted less than
+/// kStoodTiltDegrees. A ground skill hands over to an upright one (standup -> walk) only once the robot stands so:
+/// a routed request (key 0 while lying) would otherwise hand a half-risen robot to the walk after kMinHopTicks.
+constexpr double kStoodPelvisHeight = 0.70;
+constexpr double kStoodTiltDegrees = 10.0;
+bool hasStoodUp(const Sensors& sensors);
+/// True when the switch from `from` to `to` may happen now as far as posture goes: always, except from a ground
+/// skill to an upright one (its stand-up's way up), which waits until the robot stands (hasStoodUp) and has
+/// settled there (atRestForSwitch, and rising or sinking slower than kRestSpeed). (The walk taking over at the first
+/// tick of the stand, the stand-up prior still rising, fell in 10 of 20 episodes of the standup card.)
+bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors);
+
 /// True for a skill that stands where it is: its commands have no vx, vy or wz range.
 bool isStillSkill(const SkillDef& skill);
 /// True when a still skill may take over (see kRestSpeed).

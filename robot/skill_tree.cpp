@@ -397,11 +397,12 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       r.onlyKeys(*c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
                       "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
                       "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
-                      "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg", "push_every_s"}, w);
+                      "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg", "push_every_s",
+                      "lie_s", "rise_s", "after_s"}, w);
       const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
       if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick" &&
-          type != "prone")
-        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\", \"kick\" or \"prone\""));
+          type != "prone" && type != "standup")
+        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\", \"kick\", \"prone\" or \"standup\""));
       CardDef& d = s.card;
       d.kind = type == "velocity" ? CardDef::Kind::Velocity
                : type == "height" ? CardDef::Kind::Height
@@ -409,10 +410,16 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                : type == "stairs"  ? CardDef::Kind::Stairs
                : type == "jump"    ? CardDef::Kind::Jump
                : type == "kick"    ? CardDef::Kind::Kick
-                                   : CardDef::Kind::Prone;
+               : type == "prone"   ? CardDef::Kind::Prone
+                                   : CardDef::Kind::StandUp;
+      if (d.kind == CardDef::Kind::StandUp && (s.parent.empty() || s.up.empty()))
+        throw Error(located(path, r.line(*c), w + ": a standup card needs the skill's parent (it lies down first) and its up skill (it takes over)"));
       d.proneSeconds = r.number(*c, "prone_s", 3, 0.01, 3600, w);
       d.proneHeight = r.number(*c, "prone_height", 0.35, 0, 2, w);
       d.pronePitch = r.range(*c, "prone_pitch_deg", {70, 110}, -180, 180, w);
+      d.lieSeconds = r.range(*c, "lie_s", {3.0, 5.5}, 0.01, 60, w);
+      d.riseSeconds = r.number(*c, "rise_s", 5, 0.01, 60, w);
+      d.afterSeconds = r.number(*c, "after_s", 3, 0, 600, w);
       d.kickSpeed = r.number(*c, "kick_speed", 2.5, 0, 50, w);
       d.kickAngleDegrees = r.number(*c, "kick_angle_deg", 15, 0, 180, w);
       d.jumpHeight = r.number(*c, "jump_height", 0.10, 0, 2, w);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "ai/onnx/policy_onnx.h"
 #include "engine/input/key_script.h"
 #include "game/session.h"
 #include "tests/fixtures.h"
@@ -260,4 +261,36 @@ TEST(Switching, ASlowerSkillWaitsForThePelvisToSlowToItsTopSpeed) {
   EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(walk, sprint, keys).vx, 0.8);
   EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(walk, sprint, keys).wz, 0.0);
   EXPECT_DOUBLE_EQ(robot::switchBrakeTarget(walk, run, keys).wz, 0.5);  // the run turns on the spot: kept
+}
+
+// the shipped tree's prone and standup with their priors alone (zero network output) and the shipped walk model:
+// key 7 lays the robot face down, key 0 while lying runs the stand-up (prone cannot hand a lying robot to the
+// walk), and the walk takes over only once the robot stands and has settled, not after the minimum hop time
+TEST(Session, KeyZeroWhileLyingStandsUpThenWalks) {
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  auto walk = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(kSource + "/assets/skills/walk.onnx"));
+  game::SkillSet skills;
+  skills.skills.push_back({*shipped.find("walk"), [walk](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { walk->act(o, a); }});
+  for (const char* name : {"prone", "standup"})
+    skills.skills.push_back({*shipped.find(name), [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); }});
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &skills});
+  s.step(engine::parseKeyScript("0.00 tap 7\n", "k"));
+  double pelvisAtWalk = 0, tiltAtWalk = 0;
+  for (int i = 1; i < 1000; ++i) {
+    s.step(i == 350 ? std::vector<engine::KeyEvent>{{s.tick(), engine::KeyAction::kTap, '0'}} : std::vector<engine::KeyEvent>{});
+    if (s.activeSkillName() == "walk" && pelvisAtWalk == 0)
+      pelvisAtWalk = s.sensors().basePosition.z(), tiltAtWalk = s.sensors().tilt;
+  }
+  const auto& sw = s.telemetry().switches;
+  ASSERT_EQ(sw.size(), 3u);
+  EXPECT_EQ(sw[0].to, "prone");
+  EXPECT_EQ(sw[1].from + ">" + sw[1].to, "prone>standup");
+  EXPECT_EQ(sw[1].tick, 350);  // lying, the way up is taken at once
+  EXPECT_EQ(sw[2].from + ">" + sw[2].to, "standup>walk");
+  EXPECT_GT(sw[2].tick - sw[1].tick, 450);  // the keyframes stand the robot up 4.99 s after the switch
+  EXPECT_LT(sw[2].tick - sw[1].tick, 600);
+  EXPECT_GE(pelvisAtWalk, robot::kStoodPelvisHeight);
+  EXPECT_LT(tiltAtWalk, robot::kStoodTiltDegrees * M_PI / 180);
+  EXPECT_FALSE(s.fallen()) << "fell at tick " << s.fallTick() << "; walk from " << sw[2].tick;
 }

@@ -224,6 +224,9 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(badMix).find("t.toml:21: skill.walk.card.mix must add up to 1"), std::string::npos) << errorOf(badMix);
   const std::string badType = walk + "[skill.walk.card]\ntype = \"juggling\"\n";
   EXPECT_NE(errorOf(badType).find("t.toml:19: skill.walk.card.type"), std::string::npos) << errorOf(badType);
+  const std::string rootStandUp = walk + "[skill.walk.card]\ntype = \"standup\"\n";  // who lies it down, who takes over?
+  EXPECT_NE(errorOf(rootStandUp).find("t.toml:19: skill.walk.card: a standup card needs the skill's parent"), std::string::npos)
+      << errorOf(rootStandUp);
   const std::string badRamp = walk + "[skill.walk.commands]\nvx = [0, 1]\nramp = 2\n";
   EXPECT_NE(errorOf(badRamp).find("t.toml:21: skill.walk.commands.ramp must be true or false"), std::string::npos)
       << errorOf(badRamp);
@@ -372,4 +375,32 @@ TEST(Termination, GroundSkillsMayLieFaceDownButNotRollOntoTheirSideOrBack) {
   EXPECT_FALSE(robot::hasFallen(upright, pitched(20, 0, 0.75)));
   EXPECT_TRUE(robot::hasFallen(upright, pitched(40, 0, 0.75)));
   EXPECT_TRUE(robot::hasFallen(upright, pitched(0, 0, 0.45)));
+}
+
+TEST(Switching, AStandUpHandsOverToAnUprightSkillOnlyOnceTheRobotStandsStill) {
+  robot::SkillDef standup, walk, crawl;
+  standup.name = "standup", standup.up = "walk";
+  standup.termination.maxForwardPitchDegrees = 120;  // a ground skill (it lies face down at first)
+  crawl.termination.maxForwardPitchDegrees = 120;
+  walk.name = "walk";
+  auto sensors = [](double z, double tiltDeg, double vz) {
+    robot::Sensors s;
+    s.baseRotation = Eigen::AngleAxisd(tiltDeg * M_PI / 180, Eigen::Vector3d::UnitY());
+    s.tilt = tiltDeg * M_PI / 180;
+    s.basePosition = Eigen::Vector3d(0, 0, z);
+    s.linearVelocity = s.baseRotation.inverse() * Eigen::Vector3d(0, 0, vz);  // body frame
+    s.footContact = {true, true};
+    return s;
+  };
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.12, 86, 0.0)));  // lying face down
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.40, 30, 0.0)));  // on hands and knees
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.72, 12, 0.0)));  // up, tilted 12 deg
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.72, 5, 0.4)));   // up, still rising at 0.4 m/s
+  EXPECT_TRUE(robot::postureAllowsSwitch(standup, walk, sensors(0.72, 5, 0.05)));   // standing, settled
+  robot::Sensors airborne = sensors(0.78, 0, 0.0);
+  airborne.footContact = {true, false};
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, airborne));  // one foot still coming down
+  // between ground skills, or out of an upright one, posture never holds a switch back
+  EXPECT_TRUE(robot::postureAllowsSwitch(standup, crawl, sensors(0.12, 86, 0.0)));
+  EXPECT_TRUE(robot::postureAllowsSwitch(walk, standup, sensors(0.5, 25, 0.3)));
 }
