@@ -101,7 +101,10 @@ std::string cardText(const ai::CardResult& card) {
 int runTrain(const TrainOptions& o) {
   const Loaded l = loadSkill(o.skill);
   const robot::SkillDef& skill = *l.skill;
-  ai::PpoConfig config = ai::parsePpoConfig(engine::readFile(l.tree.path), l.tree.path, "ppo");
+  const std::string treeText = engine::readFile(l.tree.path);
+  // [ppo], then the skill's own [skill.NAME.ppo] overrides (not inherited by its branches)
+  ai::PpoConfig config = ai::parsePpoConfig(treeText, l.tree.path, "ppo");
+  config = ai::parsePpoConfig(treeText, l.tree.path, "skill." + skill.name + ".ppo", config);
   if (!std::isnan(o.learningRate)) {
     if (!(o.learningRate > 0 && o.learningRate < 1)) throw engine::Error("--learning-rate must be in (0, 1)");
     config.learningRate = o.learningRate;  // decays linearly to the config's final rate, as usual

@@ -141,7 +141,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     const toml::table* t = v.as_table();
     if (!t) throw Error(located(path, s.line, where + " must be a table"));
     r.onlyKeys(*t, {"parent", "up", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
-                    "termination", "randomisation", "training", "card", "terrain", "curriculum", "ball"},
+                    "termination", "randomisation", "training", "card", "terrain", "curriculum", "ball", "ppo"},
                where);
     if (const toml::node* p = t->get("parent")) {
       auto v2 = p->value<std::string>();

@@ -146,17 +146,18 @@ void validatePpoConfig(const PpoConfig& c, const std::string& what) {
           "initial_log_std must lie in [log_std_min, log_std_max]");
 }
 
-PpoConfig parsePpoConfig(std::string_view tomlText, const std::string& fileName, const std::string& table) {
+PpoConfig parsePpoConfig(std::string_view tomlText, const std::string& fileName, const std::string& table,
+                         const PpoConfig& base) {
   toml::table root;
   try {
     root = toml::parse(tomlText, fileName);
   } catch (const toml::parse_error& e) {
     throw Error(located(fileName, int(e.source().begin.line), std::string(e.description())));
   }
-  PpoConfig config;
+  PpoConfig config = base;
   const toml::table* t = &root;
   if (!table.empty()) {
-    const toml::node* node = root.get(table);
+    const toml::node* node = root.at_path(table).node();
     if (!node) return config;
     t = node->as_table();
     if (!t) throw Error(located(fileName, lineOf(*node), "'" + table + "' must be a table"));

@@ -93,10 +93,11 @@ struct PpoConfig {
   double logStdMax = 1.0;
 };
 
-/// Parses a PpoConfig from TOML text: keys of the table named table ("" = the root table) override the
-/// defaults; a missing table means all defaults. Unknown keys, wrong types and invalid values throw
-/// engine::Error "fileName:line: ...".
-PpoConfig parsePpoConfig(std::string_view tomlText, const std::string& fileName, const std::string& table = "ppo");
+/// Parses a PpoConfig from TOML text: keys of the table at the dotted path `table` ("" = the root table; e.g.
+/// "skill.standup.ppo", a skill's own overrides) override `base`; a missing table means `base` unchanged. Unknown
+/// keys, wrong types and invalid values throw engine::Error "fileName:line: ...".
+PpoConfig parsePpoConfig(std::string_view tomlText, const std::string& fileName, const std::string& table = "ppo",
+                         const PpoConfig& base = PpoConfig{});
 
 /// Reads path and parses it with parsePpoConfig. Throws engine::Error.
 PpoConfig loadPpoConfig(const std::string& path, const std::string& table = "ppo");

@@ -47,6 +47,21 @@ TEST(PpoConfig, TableOverridesDefaults) {
   EXPECT_EQ(toToml(parsePpoConfig("", "empty.toml")), toToml(PpoConfig{}));  // no [ppo]: defaults
 }
 
+TEST(PpoConfig, ASkillsOwnTableOverridesTheSharedOneKeyByKey) {
+  const std::string text = "[ppo]\nbatch_size = 512\ndesired_kl = 0.01\n[skill.standup.ppo]\ndesired_kl = 0.02\n";
+  const PpoConfig shared = parsePpoConfig(text, "tree.toml", "ppo");
+  const PpoConfig standup = parsePpoConfig(text, "tree.toml", "skill.standup.ppo", shared);
+  EXPECT_EQ(standup.desiredKl, 0.02);
+  EXPECT_EQ(standup.batchSize, 512);  // the shared table's, kept
+  EXPECT_EQ(toToml(parsePpoConfig(text, "tree.toml", "skill.walk.ppo", shared)), toToml(shared));  // none of its own
+  try {
+    parsePpoConfig(text + "gama = 0.9\n", "tree.toml", "skill.standup.ppo", shared);
+    ADD_FAILURE() << "a misspelt key was accepted";
+  } catch (const engine::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("tree.toml:6: unknown key 'gama' in [skill.standup.ppo]"), std::string::npos) << e.what();
+  }
+}
+
 TEST(PpoConfig, UnknownKeyWrongTypeAndBadValueReportFileAndLine) {
   EXPECT_EQ(errorOf("[ppo]\ngamma = 0.9\nbatchsize = 3\n"), "run.toml:3: unknown key 'batchsize' in [ppo]");
   EXPECT_EQ(errorOf("[ppo]\n\nnum_epoch = 2.5\n"), "run.toml:3: 'num_epoch' must be an integer");
