@@ -82,9 +82,9 @@ TrialPlan planTrial(const game::SkillSet& skills, const game::SkillRuntime& from
   TrialPlan p;
   const game::SkillRuntime* parent = from.def.parent.empty() ? nullptr : skills.byName(from.def.parent);
   const bool entersLying = parent && robot::isGroundSkill(parent->def);
-  p.firstKey = char('0' + (entersLying ? parent->def.key : from.def.key));
+  p.firstKey = char('0' + skills.requestKey(entersLying ? *parent : from));
   if (entersLying) {
-    p.secondKey = char('0' + from.def.key);
+    p.secondKey = char('0' + skills.requestKey(from));
     p.secondTick = engine::secondsToTicks(3.5);
     p.switchTick = p.secondTick + engine::secondsToTicks(1.0 + 3.0 * unit(rng));  // the stand-up waits for the stand
   } else {
@@ -120,7 +120,7 @@ Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const
     if (tick == engine::secondsToTicks(0.5) && keyA) ev.push_back({tick, engine::KeyAction::kDown, keyA});
     if (tick == switchTick) {
       if (keyA) ev.push_back({tick, engine::KeyAction::kUp, keyA});
-      ev.push_back({tick, engine::KeyAction::kTap, char('0' + to.def.key)});
+      ev.push_back({tick, engine::KeyAction::kTap, char('0' + skills.requestKey(to))});
       if (keyB) ev.push_back({tick, engine::KeyAction::kDown, keyB});
     }
     s.step(ev);

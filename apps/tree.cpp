@@ -65,7 +65,8 @@ int runTree() {
         }
         // the drawing's characters are 3 bytes each in UTF-8 but one column wide
         const int extraBytes = int(label.size()) - int(std::count_if(label.begin(), label.end(), [](char c) { return (c & 0xC0) != 0x80; }));
-        std::printf("  %-*s %-4d %-18s %-18s %-10s %s\n", 22 + extraBytes, label.c_str(), s.key, s.model.c_str(), hash.c_str(),
+        const std::string key = s.key >= 0 ? std::to_string(s.key) : "-";  // keyless: reached by routing through it
+        std::printf("  %-*s %-4s %-18s %-18s %-10s %s\n", 22 + extraBytes, label.c_str(), key.c_str(), s.model.c_str(), hash.c_str(),
                     steps.c_str(), card.c_str());
         std::vector<const robot::SkillDef*> children;
         for (const robot::SkillDef& c : tree.skills)

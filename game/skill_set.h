@@ -24,11 +24,19 @@ struct SkillSet {
   std::vector<SkillRuntime> skills;
   uint64_t hash = 0;  ///< content hash of the tree file and every loaded model (0 = no skills)
 
-  /// The skill bound to a key, or nullptr.
+  /// The skill bound to a key (0-9), or nullptr.
   const SkillRuntime* byKey(int key) const {
+    if (key < 0) return nullptr;  // keyless skills have -1
     for (const SkillRuntime& s : skills)
       if (s.def.key == key) return &s;
     return nullptr;
+  }
+  /// The key that requests s: its own, or for a keyless skill (the stand-up) the key of the first skill up from
+  /// it that has one (walk's 0: from lying, the request routes through the stand-up). -1 if none.
+  int requestKey(const SkillRuntime& s) const {
+    const SkillRuntime* at = &s;
+    for (size_t hops = 0; at && at->def.key < 0 && hops <= skills.size(); ++hops) at = upFrom(*at);
+    return at && at->def.key >= 0 ? at->def.key : -1;
   }
   /// The loaded skill with this name, or nullptr.
   const SkillRuntime* byName(const std::string& name) const {

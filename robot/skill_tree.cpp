@@ -153,10 +153,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       if (!v2 || v2->empty()) throw Error(located(path, r.line(*u), where + ".up must be a skill name"));
       s.up = *v2;
     }
-    const toml::node* key = t->get("key");
-    if (!key) throw Error(located(path, s.line, where + ": missing key"));
-    s.key = int(r.number(*key, where + ".key", 0, 9));
-    if (!keys.insert(s.key).second) throw Error(located(path, r.line(*key), where + ": key " + std::to_string(s.key) + " is taken"));
+    // a skill without a key is reached only by routing through it (the stand-up: key 0 while lying); checked below
+    if (const toml::node* key = t->get("key")) {
+      s.key = int(r.number(*key, where + ".key", 0, 9));
+      if (!keys.insert(s.key).second) throw Error(located(path, r.line(*key), where + ": key " + std::to_string(s.key) + " is taken"));
+    }
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
@@ -475,6 +476,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     else if (!tree.find(s.parent)) throw Error(located(path, s.line, "skill." + s.name + ": unknown parent '" + s.parent + "'"));
     if (!s.up.empty() && (!tree.find(s.up) || s.up == s.name))
       throw Error(located(path, s.line, "skill." + s.name + ": up = '" + s.up + "' is not another skill of the tree"));
+    const bool someonesWayUp = std::any_of(tree.skills.begin(), tree.skills.end(), [&](const SkillDef& o) { return o.up == s.name; });
+    if (s.key < 0 && !someonesWayUp)
+      throw Error(located(path, s.line, "skill." + s.name + ": missing key (only a skill that is another's `up`, reached "
+                                        "by routing through it, may go without one)"));
   }
   if (roots != 1) throw Error(located(path, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
   // every chain of parents must reach the root (no cycles)

@@ -197,7 +197,7 @@ struct SkillDef {
   /// The skill a request further up the tree switches to first, when that is not the parent: prone (lying)
   /// cannot switch back to walk, so its way up is standup, and standup's way up is walk. "" = the parent.
   std::string up;
-  int key = -1;        ///< 0..9
+  int key = -1;        ///< 0..9; -1: none (a skill reached only by routing through it, as another's `up`)
   std::string model;   ///< ONNX file name inside assets/skills/
   PriorDef prior;
   JointArray kp{}, kd{};           ///< PD gains per joint

@@ -224,6 +224,9 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(badMix).find("t.toml:21: skill.walk.card.mix must add up to 1"), std::string::npos) << errorOf(badMix);
   const std::string badType = walk + "[skill.walk.card]\ntype = \"juggling\"\n";
   EXPECT_NE(errorOf(badType).find("t.toml:19: skill.walk.card.type"), std::string::npos) << errorOf(badType);
+  const std::string keyless = std::regex_replace(walk, std::regex("key = 0\n"), "");  // nothing routes through it
+  EXPECT_NE(errorOf(keyless).find("t.toml:1: skill.walk: missing key (only a skill that is another's `up`"), std::string::npos)
+      << errorOf(keyless);
   const std::string rootStandUp = walk + "[skill.walk.card]\ntype = \"standup\"\n";  // who lies it down, who takes over?
   EXPECT_NE(errorOf(rootStandUp).find("t.toml:19: skill.walk.card: a standup card needs the skill's parent"), std::string::npos)
       << errorOf(rootStandUp);
