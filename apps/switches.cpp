@@ -144,7 +144,7 @@ Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const
       endTick = std::min(lastTick, tick + engine::secondsToTicks(kAfterSeconds));
     }
   }
-  t.switched = t.latencyTicks >= 0;
+  t.switched = t.latencyTicks >= 0 && t.latencyTicks <= double(engine::secondsToTicks(kMaxWaitSeconds));
   t.upright = !s.fallen();
   if (!t.upright) {
     t.fallTick = s.tick();

@@ -78,16 +78,27 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     return b > a ? s / double(b - a) : 0.0;
   };
   const std::vector<SwitchEvent>& sw = result.telemetry.switches;
+  const std::vector<int64_t>& respawns = result.telemetry.respawns;
   for (size_t k = 0; k < sw.size(); ++k) {
     if (sw[k].from == "stand") continue;
-    SwitchReport r;
-    r.event = sw[k];
-    const int64_t t = sw[k].tick, next = k + 1 < sw.size() ? sw[k + 1].tick : n;
-    r.speedBefore = mean(t - 50, t);
-    r.speedAfter = mean(std::min(t + 200, next - 100), std::min(t + 300, next));
-    for (int64_t i = std::max<int64_t>(t - 50, 11); i < std::min(t + 300, n); ++i)
-      r.peakAcceleration = std::max(r.peakAcceleration, std::abs(speed[size_t(i)] - speed[size_t(i - 1)]) / engine::kTickSeconds);
-    result.switchReports.push_back(r);
+    const int64_t t = sw[k].tick;
+    // a respawn's hand-over to the root is no switch in motion; and no window reaches across a respawn's teleport
+    // (made in tick r: comX[r] is the new place, so the smoothed speeds r .. r + 9 span it, and the acceleration
+    // at r + 10 takes the one before)
+    if (sw[k].respawn) continue;
+    int64_t first = t - 50, last = t + 300;
+    for (int64_t r : respawns) {
+      if (r < t) first = std::max(first, r + 11);
+      else last = std::min(last, r);
+    }
+    SwitchReport rep;
+    rep.event = sw[k];
+    const int64_t next = std::min(last, k + 1 < sw.size() ? sw[k + 1].tick : n);
+    rep.speedBefore = mean(first, t);
+    rep.speedAfter = mean(std::min(t + 200, next - 100), std::min(t + 300, next));
+    for (int64_t i = std::max<int64_t>(first, 11); i < std::min(last, n); ++i)
+      rep.peakAcceleration = std::max(rep.peakAcceleration, std::abs(speed[size_t(i)] - speed[size_t(i - 1)]) / engine::kTickSeconds);
+    result.switchReports.push_back(rep);
   }
   result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

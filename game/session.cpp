@@ -76,13 +76,30 @@ std::vector<BodyPoint> Session::bodyPoints() const {
 }
 
 void Session::respawn(double x) {
-  // upright, facing +X, feet on the ground in the default pose
+  // upright, facing +X, feet on the ground in the default pose, at rest: the root skill (walk) takes the robot as
+  // at a level's start and the velocity commands start from 0 (held keys ramp them up again; a request for another
+  // skill routes from the root as usual). Until session 9 the fallen skill went on: a run started from a standstill
+  // at the default pose at 2 m/s and fell again 0.56 s after every respawn on levels/mario.
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
   base.translation() = Eigen::Vector3d(x, 0.0, model_.spawnHeight);
   robot_->teleport(physics_, base, robot::Robot::standingCommand(model_).target);
   action_.fill(0.0f);
   phase_ = robot::PhaseClock{};
   sensors_ = robot_->sense(physics_);
+  input_.stopMotion();
+  telemetry_.respawns.push_back(tick_);
+  const SkillRuntime* root = nullptr;
+  if (skills_)
+    for (const SkillRuntime& s : skills_->skills)
+      if (s.def.parent.empty()) root = &s;
+  if (active_ && root && active_ != root) {
+    switchTo(root);
+    telemetry_.switches.back().tick = tick_ + 1;  // the root's first control step is the next tick's
+    telemetry_.switches.back().respawn = true;
+  }
+  fadingFrom_ = nullptr;  // a fresh start: no prior to fade out
+  fadeTicks_ = 0;
+  restWaitTicks_ = -1;
 }
 
 double Session::seconds() const { return double(tick_) * engine::kTickSeconds; }

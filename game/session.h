@@ -49,6 +49,7 @@ struct SessionOptions {
 struct SwitchEvent {
   int64_t tick = 0;  ///< the tick whose control step the new skill made
   std::string from, to;
+  bool respawn = false;  ///< the root taking a respawned robot, not a switch in motion
 };
 
 /// Running statistics for the summary.
@@ -59,6 +60,7 @@ struct Telemetry {
   double maxTilt = 0;
   double distance = 0;  ///< horizontal path length of the pelvis [m]
   int falls = 0;        ///< times the robot went down (a game level may put it back up)
+  std::vector<int64_t> respawns;  ///< ticks the robot was put back at a checkpoint (a teleport)
   int64_t ticks = 0;
   std::set<int> skillsRequested;
   std::set<std::string> skillsUsed;

@@ -77,6 +77,9 @@ class CommandInput {
   /// The command after the latest tick() (keysHeld and skillRequest also reflect later apply() calls).
   const CommandState& state() const { return state_; }
 
+  /// Sets vx, vy and wz to 0 (a robot put back at rest, e.g. a respawn): held keys ramp them up again from there.
+  void stopMotion() { state_.vx = state_.vy = state_.wz = 0.0; }
+
   /// Replaces targets and rates (e.g. when the active skill changes); values keep ramping from where they are.
   void setLimits(const CommandLimits& limits) { limits_ = limits; }
 

@@ -300,3 +300,25 @@ TEST(Session, KeyZeroWhileLyingStandsUpThenWalks) {
   EXPECT_LT(tiltAtWalk, robot::kStoodTiltDegrees * M_PI / 180);
   EXPECT_FALSE(s.fallen()) << "fell at tick " << s.fallTick() << "; walk from " << sw[2].tick;
 }
+
+// a fall on a game level respawns the robot at rest: the root skill takes it (as at the level's start) with the
+// velocity commands back at 0, and the skill the keys still ask for is entered from there, as any request is
+TEST(Session, ARespawnHandsTheRobotToTheRootAtRest) {
+  const levels::Level mario = levels::loadLevel(kSource + "/levels/mario");
+  const game::SkillSet skills = tree(4.0f);  // a deep constant crouch: every skill sinks the pelvis below the fall height
+  game::Session s(mario, fixtures::robotModel(), game::SessionOptions{1, &skills});
+  s.step(engine::parseKeyScript("0.00 tap 1\n0.00 down W\n", "k"));  // the run, forward
+  while (s.telemetry().respawns.empty() && s.tick() < 500) s.step({});
+  ASSERT_FALSE(s.telemetry().respawns.empty()) << "the crouch did not fall";
+  const int64_t r = s.telemetry().respawns.front();
+  const auto& sw = s.telemetry().switches;
+  ASSERT_GE(sw.size(), 2u);
+  EXPECT_EQ(sw[0].from + ">" + sw[0].to, "stand>run");
+  EXPECT_EQ(sw[1].from + ">" + sw[1].to, "run>walk");
+  EXPECT_TRUE(sw[1].respawn);
+  EXPECT_EQ(sw[1].tick, r + 1);
+  EXPECT_EQ(s.activeSkillName(), "walk");
+  EXPECT_EQ(s.command().vx, 0.0);  // W still held: it ramps up again from 0
+  s.step({});
+  EXPECT_NEAR(s.command().vx, 0.02, 1e-12);
+}
