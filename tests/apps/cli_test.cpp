@@ -64,6 +64,16 @@ TEST(Cli, ProneScriptLiesDownWithoutAFall) {
   EXPECT_NE(r.out.find("min 0.1"), std::string::npos) << r.out;  // the pelvis went down to ~0.12 m
 }
 
+TEST(Cli, KeyZeroWhileLyingStandsUpAndTheWalkGoesOn) {
+  // walk, prone, then 0 while lying: routed through the stand-up (keyless), the walk once the robot stands
+  const CliRun r = run("play levels/flat --keys up_again.keys --seconds 19 --expect alive");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("walk->prone"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("prone->standup at 7.50 s"), std::string::npos) << r.out;  // the key's tick: lying, at once
+  EXPECT_NE(r.out.find("standup->walk at 12."), std::string::npos) << r.out;       // standing ~4.6-5 s later
+  EXPECT_NE(r.out.find("requested keys: 0, 7"), std::string::npos) << r.out;
+}
+
 TEST(Cli, BadArgumentsExitWithCodeTwo) {
   EXPECT_EQ(run("play levels/flat --bogus").code, 2);
   EXPECT_EQ(run("play levels/flat --seconds abc").code, 2);
