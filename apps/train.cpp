@@ -52,8 +52,7 @@ Loaded loadSkill(const std::string& name) {
   return l;
 }
 
-// a skill's shipped (or, with modelsDir, trained) model as a driver of a card's other stages (a stand-up card's
-// parent lying down first and its up skill taking over)
+// the model of skill `name` in modelsDir, checked against its tree entry, as the driver of one of a card's stages
 ai::DrivingSkill drivingSkill(const Loaded& l, const std::string& name, const std::string& modelsDir, const std::string& why) {
   const robot::SkillDef* def = l.tree.find(name);
   const std::string path = modelsDir + "/" + def->model;
@@ -64,8 +63,8 @@ ai::DrivingSkill drivingSkill(const Loaded& l, const std::string& name, const st
   return {def, [policy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); }};
 }
 
-// the skills that drive a card's other stages: a standup card's parent (lying down first) and up skill (taking
-// over once standing); none for the other kinds
+// the skills that drive a card's other stages: a standup card's parent (it lies down first) and up skill (it
+// takes over once the robot stands); none for the other kinds
 struct CardDrivers {
   ai::DrivingSkill before, after;
 };
