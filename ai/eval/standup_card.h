@@ -14,9 +14,10 @@ struct DrivingSkill {
 };
 
 /// Runs a standup card: `parent` lies down for a random lie_s (no pushes; friction and mass randomised as in
-/// `skill`'s training), the switch to `skill` (its action carried over, the parent's prior fading out), then at the
-/// first tick the robot stands (robot::hasStoodUp) the switch to `up` with a zero command for after_s. Results do not
-/// depend on the thread count.
+/// `skill`'s training), the switch to `skill` (its action carried over, the parent's prior fading out); the stand is
+/// timed at the first tick the robot stands (robot::hasStoodUp), and once it has also settled there
+/// (robot::postureAllowsSwitch, as in play) `up` takes over with a zero command for after_s. Results do not depend
+/// on the thread count.
 CardResult runStandUpCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
                           const CardRun& run, const DrivingSkill& parent, const DrivingSkill& up);
 
