@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "ai/env/skill_env.h"
-#include "ai/eval/standup_card.h"
+#include "ai/eval/ground_card.h"
 #include "ai/eval/velocity_card.h"
 #include "ai/onnx/skill_metadata.h"
 #include "ai/onnx/policy_onnx.h"
@@ -63,12 +63,14 @@ ai::DrivingSkill drivingSkill(const Loaded& l, const std::string& name, const st
   return {def, [policy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); }};
 }
 
-// the skills that drive a card's other stages: a standup card's parent (it lies down first) and up skill (it
-// takes over once the robot stands); none for the other kinds
+// the skills that drive a card's other stages: a ground card's parent (it lies down first) and a standup card's up
+// skill (it takes over once the robot stands); none for the other kinds
 struct CardDrivers {
   ai::DrivingSkill before, after;
 };
 CardDrivers loadCardDrivers(const Loaded& l, const std::string& modelsDir) {
+  if (l.skill->card.kind == robot::CardDef::Kind::PushUp || l.skill->card.kind == robot::CardDef::Kind::Crawl)
+    return {drivingSkill(l, l.skill->parent, modelsDir, "it lies down first"), {}};
   if (l.skill->card.kind != robot::CardDef::Kind::StandUp) return {};
   return {drivingSkill(l, l.skill->parent, modelsDir, "it lies down first"),
           drivingSkill(l, l.skill->up, modelsDir, "it takes over once standing")};
@@ -76,8 +78,9 @@ CardDrivers loadCardDrivers(const Loaded& l, const std::string& modelsDir) {
 
 // runs the skill's card, whichever kind
 ai::CardResult runCard(const Loaded& l, const ai::PolicyFn& act, const ai::CardRun& run, const CardDrivers& drivers) {
-  if (run.card.kind == robot::CardDef::Kind::StandUp)
-    return ai::runStandUpCard(l.model, *l.skill, act, run, drivers.before, drivers.after);
+  if (run.card.kind == robot::CardDef::Kind::StandUp || run.card.kind == robot::CardDef::Kind::PushUp ||
+      run.card.kind == robot::CardDef::Kind::Crawl)
+    return ai::runGroundCard(l.model, *l.skill, act, run, drivers.before, drivers.after);
   return ai::runVelocityCard(l.model, *l.skill, act, run);
 }
 
@@ -290,6 +293,15 @@ int runEval(const EvalOptions& o) {
     std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s (model %s, hash %s), "
                   "then %s takes over once it stands\n", o.skill.c_str(), run.card.episodes, l.skill->parent.c_str(),
                   def.lieSeconds.lo, def.lieSeconds.hi, o.skill.c_str(), onnxPath.c_str(), hash.c_str(), l.skill->up.c_str());
+  else if (def.kind == robot::CardDef::Kind::PushUp)
+    std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s for %g s (model %s, hash %s)\n",
+                  o.skill.c_str(), run.card.episodes, l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi,
+                  o.skill.c_str(), def.episodeSeconds, onnxPath.c_str(), hash.c_str());
+  else if (def.kind == robot::CardDef::Kind::Crawl)
+    std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s at %g-%g m/s through a "
+                  "tunnel %g m wide, its ceiling %g m up (model %s, hash %s)\n", o.skill.c_str(), run.card.episodes,
+                  l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi, o.skill.c_str(), def.vx.lo, def.vx.hi,
+                  l.skill->terrain.width, l.skill->terrain.ceilingHeight, onnxPath.c_str(), hash.c_str());
   else
     std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
                   o.skill.c_str(), run.card.episodes, def.episodeSeconds, def.pushes ? "on" : "off", def.segmentSeconds,

@@ -37,6 +37,10 @@ struct Sensors {
   double tilt = 0;                                                    ///< angle between pelvis Z and world Z [rad]
 };
 
+/// The midpoint between the shoulder joints in the torso link's frame (reference/g1/FACTS.md: the shoulder-pitch
+/// joints at (0.004, +-0.100, 0.248)) [m]: the chest's height in a push-up.
+inline const Eigen::Vector3d kChestInTorso(0.004, 0.0, 0.248);
+
 /// The sole is this far below the ankle-roll (foot) link origin (reference/g1/FACTS.md: 0.035 m).
 constexpr double kSoleDepth = 0.035;
 

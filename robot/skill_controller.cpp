@@ -45,7 +45,9 @@ bool commandIsZero(const SkillCommand& c) { return c.vx == 0.0 && c.vy == 0.0 &&
 
 void PhaseClock::advance(const PriorDef& prior, const SkillCommand& command) {
   if (prior.kind == PriorDef::Kind::Keyframes)  // one shot: holds at the last key; repeating: wraps
-    tp = prior.cycleTicks > 0 ? (tp + 1) % prior.cycleTicks : std::min(tp + 1, prior.halfPeriodTicks);
+    tp = prior.cycleTicks == 0       ? std::min(tp + 1, prior.halfPeriodTicks)
+         : tp + 1 >= prior.cycleTicks ? prior.cycleStartTick
+                                      : tp + 1;
   else advance(prior.halfPeriodTicks);
   const bool stepping = prior.kind == PriorDef::Kind::Phase && !(prior.standStill && commandIsZero(command));
   const double target = stepping ? 1.0 : 0.0;
@@ -214,10 +216,23 @@ bool hasStoodUp(const Sensors& sensors) {
   return sensors.basePosition.z() >= kStoodPelvisHeight && sensors.tilt < kStoodTiltDegrees * M_PI / 180.0;
 }
 
+bool isLyingStill(const Sensors& s) {
+  const double pitch = forwardPitch(s) * 180.0 / M_PI;
+  const Eigen::Vector3d v = s.baseRotation * s.linearVelocity;
+  return s.basePosition.z() < 0.35 && pitch >= 70.0 && pitch <= 110.0 && v.norm() < kRestSpeed;
+}
+
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors) {
+  if (isGroundSkill(from) && isGroundSkill(to) && to.parent == from.name) return isLyingStill(sensors);
   if (!isGroundSkill(from) || isGroundSkill(to)) return true;
   const double vz = (sensors.baseRotation * sensors.linearVelocity).z();
   return hasStoodUp(sensors) && atRestForSwitch(sensors) && std::abs(vz) < kRestSpeed;
+}
+
+Eigen::Vector2d groundHeading(const Sensors& s) {
+  Eigen::Vector2d h = (s.baseRotation * Eigen::Vector3d::UnitZ()).head<2>();
+  if (h.norm() < 0.3) h = (s.baseRotation * Eigen::Vector3d::UnitX()).head<2>();
+  return h.norm() > 1e-9 ? Eigen::Vector2d(h.normalized()) : Eigen::Vector2d::UnitX();
 }
 
 void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase) {

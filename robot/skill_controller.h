@@ -81,6 +81,11 @@ inline bool isGroundSkill(const SkillDef& skill) { return skill.termination.maxF
 /// robot only to another ground skill or to its `up` skill (a stand-up), never straight to an upright skill.
 bool mayHandOver(const SkillDef& from, const SkillDef& to);
 
+/// The way the robot faces on the ground, a unit vector (world x, y): on all fours or lying face down the pelvis's x
+/// axis points at the ground, so it is the pelvis's z axis (toward the head) on the ground, or its x axis while the
+/// pelvis is near upright.
+Eigen::Vector2d groundHeading(const Sensors& sensors);
+
 /// Standing again after a stand-up (issue 5): pelvis at least kStoodPelvisHeight [m] up, tilted less than
 /// kStoodTiltDegrees. A ground skill hands over to an upright one (standup -> walk) only once the robot stands so:
 /// a routed request (key 0 while lying) would otherwise hand a half-risen robot to the walk after kMinHopTicks.
@@ -91,7 +96,14 @@ bool hasStoodUp(const Sensors& sensors);
 /// skill to an upright one (its stand-up's way up), which waits until the robot stands (hasStoodUp) and has
 /// settled there (atRestForSwitch, and rising or sinking slower than kRestSpeed). (The walk taking over at the first
 /// tick of the stand, the stand-up prior still rising, fell in 10 of 20 episodes of the standup card.)
+/// From a ground skill to one of its ground branches (prone -> pushup, crawl, standup) it waits until the robot lies
+/// face down and still (isLyingStill): a request routed walk -> prone -> pushup would otherwise start the push-ups
+/// from standing, one tick after prone.
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors);
+
+/// Lying face down as prone leaves the robot (pelvis below 0.35 m, forward pitch 70-110 deg, as prone's card and
+/// the ground cards count it) and still (moving and sinking slower than kRestSpeed).
+bool isLyingStill(const Sensors& sensors);
 
 /// True for a skill that stands where it is: its commands have no vx, vy or wz range.
 bool isStillSkill(const SkillDef& skill);

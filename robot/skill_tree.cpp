@@ -161,7 +161,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
-      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat"}, where + ".prior");
+      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat", "repeat_from"}, where + ".prior");
       const std::string type = p->get("type") && p->get("type")->value<std::string>() ? *p->get("type")->value<std::string>() : "";
       if (type == "phase") s.prior.kind = PriorDef::Kind::Phase;
       else if (type == "pose") s.prior.kind = PriorDef::Kind::Pose;
@@ -235,8 +235,27 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
             s.prior.halfPeriodTicks = lastTick / 2;
           }
         }
-      } else if (p->get("repeat")) {
-        throw Error(located(path, r.line(*p->get("repeat")), where + ".prior.repeat: only a \"keyframes\" prior repeats"));
+        if (const toml::node* rf = p->get("repeat_from")) {  // a lead-in, then a cycle from one key to the last
+          if (s.prior.cycleTicks > 0)
+            throw Error(located(path, r.line(*rf), where + ".prior: repeat = true cycles from the default pose, repeat_from from a key: give one of them"));
+          const int startTick = int(std::lround(r.number(*rf, where + ".prior.repeat_from", 0.01, 60) / 0.01));
+          const auto start = std::find_if(s.prior.keyframes.begin(), s.prior.keyframes.end(),
+                                          [&](const PriorDef::Keyframe& key) { return key.tick == startTick; });
+          if (start == s.prior.keyframes.end() || start + 1 == s.prior.keyframes.end())
+            throw Error(located(path, r.line(*rf), where + ".prior.repeat_from must be the t of a key before the last (the cycle runs from it to the last key)"));
+          if ((lastTick - startTick) % 2 != 0)
+            throw Error(located(path, r.line(*rf), where + ".prior.repeat_from: the cycle (last key's t - repeat_from) must be an even number "
+                                                     "of hundredths of a second (the phase observation goes once round per cycle)"));
+          for (size_t j = 0; j < start->offset.size(); ++j)
+            if (std::abs(start->offset[j] - s.prior.keyframes.back().offset[j]) > 0.05)
+              throw Error(located(path, r.line(*rf), where + ".prior.repeat_from: the last key must be within 0.05 rad of the key at repeat_from (the cycle starts over from it)"));
+          s.prior.cycleTicks = lastTick;
+          s.prior.cycleStartTick = startTick;
+          s.prior.halfPeriodTicks = (lastTick - startTick) / 2;
+        }
+      } else if (p->get("repeat") || p->get("repeat_from")) {
+        const toml::node* rp = p->get("repeat") ? p->get("repeat") : p->get("repeat_from");
+        throw Error(located(path, r.line(*rp), where + ".prior.repeat: only a \"keyframes\" prior repeats"));
       }
       s.prior.dh = r.number(*p, "dh", 0, -1.5, 1.5, where + ".prior");
       s.prior.d0 = r.number(*p, "d0", 0, -1.5, 1.5, where + ".prior");
@@ -328,11 +347,15 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     if (const toml::table* tt = r.table(*t, "terrain", false, where)) {
       const std::string w = where + ".terrain";
-      r.onlyKeys(*tt, {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at"}, w);
+      r.onlyKeys(*tt, {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at", "height"}, w);
       const std::string type = tt->get("type") && tt->get("type")->value<std::string>() ? *tt->get("type")->value<std::string>() : "";
-      if (type != "stairs" && type != "flat") throw Error(located(path, r.line(*tt), w + ".type must be \"stairs\" or \"flat\""));
+      if (type != "stairs" && type != "flat" && type != "ceiling")
+        throw Error(located(path, r.line(*tt), w + ".type must be \"stairs\", \"flat\" or \"ceiling\""));
       TerrainDef& d = s.terrain;
-      d.kind = type == "stairs" ? TerrainDef::Kind::Stairs : TerrainDef::Kind::Flat;
+      d.kind = type == "stairs" ? TerrainDef::Kind::Stairs : type == "ceiling" ? TerrainDef::Kind::Ceiling : TerrainDef::Kind::Flat;
+      d.ceilingHeight = r.number(*tt, "height", 0.6, 0.2, 3, w);
+      if (d.kind == TerrainDef::Kind::Ceiling && s.handover < 1.0)
+        throw Error(located(path, r.line(*tt), w + ": a ceiling goes over a robot that has lain down: the skill's training needs handover = 1.0"));
       d.steps = int(r.number(*tt, "steps", 10, 1, 100, w));
       d.stepDepth = r.number(*tt, "step_depth", 0.3, 0.1, 2, w);
       d.startX = r.number(*tt, "start_x", 1.0, 0, 20, w);
@@ -399,11 +422,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                       "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
                       "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
                       "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg", "push_every_s",
-                      "lie_s", "rise_s", "after_s"}, w);
+                      "lie_s", "rise_s", "after_s", "push_ups", "rise", "crawl_distance", "crawl_speed"}, w);
       const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
       if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick" &&
-          type != "prone" && type != "standup")
-        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\", \"kick\", \"prone\" or \"standup\""));
+          type != "prone" && type != "standup" && type != "pushup" && type != "crawl")
+        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\", \"kick\", \"prone\", \"standup\", \"pushup\" or \"crawl\""));
       CardDef& d = s.card;
       d.kind = type == "velocity" ? CardDef::Kind::Velocity
                : type == "height" ? CardDef::Kind::Height
@@ -412,9 +435,19 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                : type == "jump"    ? CardDef::Kind::Jump
                : type == "kick"    ? CardDef::Kind::Kick
                : type == "prone"   ? CardDef::Kind::Prone
+               : type == "pushup"  ? CardDef::Kind::PushUp
+               : type == "crawl"   ? CardDef::Kind::Crawl
                                    : CardDef::Kind::StandUp;
       if (d.kind == CardDef::Kind::StandUp && (s.parent.empty() || s.up.empty()))
         throw Error(located(path, r.line(*c), w + ": a standup card needs the skill's parent (it lies down first) and its up skill (it takes over)"));
+      if ((d.kind == CardDef::Kind::PushUp || d.kind == CardDef::Kind::Crawl) && s.parent.empty())
+        throw Error(located(path, r.line(*c), w + ": a " + type + " card needs the skill's parent (it lies down first)"));
+      if (d.kind == CardDef::Kind::Crawl && s.terrain.kind != TerrainDef::Kind::Ceiling)
+        throw Error(located(path, r.line(*c), w + ": a crawl card runs in a tunnel: the skill needs [terrain] type = \"ceiling\""));
+      d.crawlDistance = r.number(*c, "crawl_distance", 5, 0.1, 100, w);
+      d.crawlSpeed = r.number(*c, "crawl_speed", 0.25, 0.01, 10, w);
+      d.pushUps = int(r.number(*c, "push_ups", 3, 1, 1000, w));
+      d.pushUpRise = r.number(*c, "rise", 0.08, 0, 2, w);
       d.proneSeconds = r.number(*c, "prone_s", 3, 0.01, 3600, w);
       d.proneHeight = r.number(*c, "prone_height", 0.35, 0, 2, w);
       d.pronePitch = r.range(*c, "prone_pitch_deg", {70, 110}, -180, 180, w);

@@ -35,13 +35,17 @@ struct PriorDef {
   /// observation's cosine runs from 1 to -1 over the motion): a one-shot motion such as lying down. With
   /// `repeat` the motion is a cycle instead (jumps in a row): the clock wraps to 0 at the last key's tick
   /// (cycleTicks), so the last key should be near the default pose, and halfPeriodTicks is half the cycle, so
-  /// the phase observation goes once round the circle per cycle.
+  /// the phase observation goes once round the circle per cycle. With `repeat_from = t` (a key's time) the motion
+  /// is a lead-in and a cycle: the clock runs up to the last key once, then wraps back to that key's tick
+  /// (cycleStartTick) instead of 0, so the last key should repeat that key's pose (a crawl's gait after the move
+  /// onto hands and knees); halfPeriodTicks is then half of the cycle from that key to the last.
   struct Keyframe {
     int tick = 0;
     JointArray offset{};
   };
   std::vector<Keyframe> keyframes;
-  int cycleTicks = 0;  ///< repeating keyframes: the cycle's length in ticks (0: one shot)
+  int cycleTicks = 0;  ///< repeating keyframes: the last key's tick, where the clock wraps (0: one shot)
+  int cycleStartTick = 0;  ///< repeating keyframes: the tick the clock wraps to (0, or repeat_from's key)
   int halfPeriodTicks = 40;  ///< T1: ticks per leg phase (gait period = 2 T1 ticks of 0.01 s)
   double dh = 0.0;           ///< stepping amplitude [rad]: hip -= A, knee += 2A, ankle -= A with A = dh u + d0
   double d0 = 0.0;           ///< base offset [rad] added to A
@@ -103,8 +107,12 @@ struct TerminationDef {
 /// Terrain a skill trains on. Stairs (the level format's, levels::StairsDef): `steps` risers up along +X from
 /// start_x, the last tread a landing top_depth deep, and as many risers down; the step height comes from the
 /// curriculum's current lesson.
+/// Ceiling: a low ceiling (a tunnel's roof) `height` above the ground, put over the robot once it lies down (a
+/// ground skill's episodes start standing under the parent, and a standing robot does not fit under it): in
+/// training a slab over the whole arena, on the card a tunnel `width` wide along the heading.
 struct TerrainDef {
-  enum class Kind { Flat, Stairs } kind = Kind::Flat;
+  enum class Kind { Flat, Stairs, Ceiling } kind = Kind::Flat;
+  double ceilingHeight = 0.6;   ///< Ceiling: the underside's height above the ground [m]
   int steps = 10;
   double stepDepth = 0.30;      ///< tread [m]
   double startX = 1.0;          ///< flat run-up before the first step [m]
@@ -152,7 +160,12 @@ struct CardDef {
   /// StandUp: each episode starts standing under the parent skill's model (prone), which lies down for lie_s;
   /// then the switch to this skill as the runtime makes it; success = standing (robot::hasStoodUp: pelvis >= 0.70 m,
   /// tilt < 10 deg) within rise_s of the switch, then the `up` skill (walk) taking over there and after_s with no fall.
-  enum class Kind { None, Velocity, Height, Balance, Stairs, Jump, Kick, Prone, StandUp } kind = Kind::None;
+  /// PushUp: each episode lies down under the parent (as StandUp), then the skill runs episode_s; success = at
+  /// least push_ups rises of the torso link's origin by >= rise (trough to crest) and no fall.
+  /// Crawl: each episode lies down under the parent, then a tunnel (the skill's ceiling terrain, `width` wide) is
+  /// put over the robot along its heading and the skill crawls at the vx command; success = crawl_distance along
+  /// the tunnel at a mean speed of at least crawl_speed, inside the tunnel and without a fall.
+  enum class Kind { None, Velocity, Height, Balance, Stairs, Jump, Kick, Prone, StandUp, PushUp, Crawl } kind = Kind::None;
   int episodes = 50;            ///< randomised episodes (friction, mass, pushes as in training)
   double episodeSeconds = 20;   ///< each episode's length
   double segmentSeconds = 5;    ///< a new command this often
@@ -188,6 +201,10 @@ struct CardDef {
   Range lieSeconds{3.0, 5.5};   ///< StandUp: the parent lies down this long (drawn per episode) [s] ...
   double riseSeconds = 5;       ///< ... the skill stands within this time of the switch [s] ...
   double afterSeconds = 3;      ///< ... and the up skill then runs this long without a fall [s]
+  int pushUps = 3;              ///< PushUp: this many push-ups within episode_s ...
+  double pushUpRise = 0.08;     ///< ... each a rise of the torso link's origin this high, trough to crest [m]
+  double crawlDistance = 5.0;   ///< Crawl: this far along the tunnel [m] ...
+  double crawlSpeed = 0.25;     ///< ... at this mean speed at least [m/s]
 };
 
 /// One skill of the tree.

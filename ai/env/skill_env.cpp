@@ -160,9 +160,13 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.phase = robot::PhaseClock{};
   e.action.fill(0.0f);
   e.fadeTicks = 0;
-  if (allowHandover && skill_.handover > 0 && unit(e.rng) < skill_.handover && !handOver(e)) {
-    resetEnv(e, false);  // the parent fell before the switch: an ordinary episode instead
-    return;
+  if (allowHandover && skill_.handover > 0 && unit(e.rng) < skill_.handover) {
+    if (!handOver(e)) {
+      resetEnv(e, false);  // the parent fell before the switch: an ordinary episode instead
+      return;
+    }
+    // a ceiling goes over the robot once it lies (a slab over the arena, the robot under its middle)
+    addCeiling(*e.world, skill_.terrain, e.sensors.basePosition.head<2>(), 0.0, 20.0, 40.0, 40.0, friction);
   }
   e.previousAction = e.action;
   e.ball = skill_.ball.enabled ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
@@ -291,7 +295,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
 
     // reward
     RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_,
-                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor};
+                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor, e.phase.tp};
     double reward = 0;
     for (size_t k = 0; k < terms_.size(); ++k) {
       const double v = terms_[k].weight * terms_[k].term->value(ctx);

@@ -42,7 +42,8 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
   std::string keyframes;  // " keys=tick:o0,o1,...;tick:..." for a keyframes prior
   for (const robot::PriorDef::Keyframe& k : skill.prior.keyframes)
     keyframes += (keyframes.empty() ? " keys=" : ";") + std::to_string(k.tick) + ":" + joinNumbers(k.offset.data(), k.offset.size());
-  if (skill.prior.cycleTicks > 0) keyframes += " repeat";
+  if (skill.prior.cycleTicks > 0)
+    keyframes += skill.prior.cycleStartTick > 0 ? " repeat_from=" + std::to_string(skill.prior.cycleStartTick) : std::string(" repeat");
   std::ostringstream filter;
   filter.precision(9);
   filter << skill.actionFilter;

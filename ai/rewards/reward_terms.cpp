@@ -112,6 +112,27 @@ double standHeight(const RewardContext& c) {
 }
 double upright(const RewardContext& c) { return std::max(0.0, std::cos(c.sensors->tilt)); }
 double stood(const RewardContext& c) { return robot::hasStoodUp(*c.sensors) ? 1.0 : 0.0; }
+double crawlVelocity(const RewardContext& c) {
+  const Eigen::Vector2d h = robot::groundHeading(*c.sensors);
+  const Eigen::Vector2d v = (c.sensors->baseRotation * c.sensors->linearVelocity).head<2>();
+  const double forward = v.dot(h) - c.command->vx, side = v.dot(Eigen::Vector2d(-h.y(), h.x())) - c.command->vy;
+  return std::exp(-(forward * forward + side * side) / 0.05);
+}
+double headingRate(const RewardContext& c) {
+  const double e = (c.sensors->baseRotation * c.sensors->angularVelocity).z() - c.command->wz;
+  return std::exp(-e * e / 0.02);
+}
+// the pelvis follows the prior's cycle: low at the cycle's first key, high half way (0 without a repeating prior)
+double pushUpHeight(const RewardContext& c) {
+  const robot::PriorDef& p = c.skill->prior;
+  if (p.cycleTicks <= 0) return 0.0;
+  const double u = c.phaseTick < p.cycleStartTick
+                       ? 0.0
+                       : double(c.phaseTick - p.cycleStartTick) / double(p.cycleTicks - p.cycleStartTick);
+  const double target = kPushUpPelvisLow + (kPushUpPelvisHigh - kPushUpPelvisLow) * 0.5 * (1.0 - std::cos(2.0 * M_PI * u));
+  const double e = (c.sensors->basePosition.z() - target) / 0.05;
+  return std::exp(-e * e);
+}
 
 }  // namespace
 
@@ -139,6 +160,9 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"side_level", &sideLevel, "-0.05 |side lean_deg| (robot::sideLean: not rolled onto a side)"},
       {"stand_height", &standHeight, "clamp((h - 0.12 m) / (0.70 m - 0.12 m), 0, 1): from lying up to standing"},
       {"upright", &upright, "max(0, cos tilt): the pelvis upright"},
+      {"crawl_velocity", &crawlVelocity, "exp(-((v_f - vx_cmd)^2 + (v_s - vy_cmd)^2) / 0.05), world velocity along / across the way the head points (pelvis z on the ground; pelvis x when upright)"},
+      {"heading_rate", &headingRate, "exp(-(wz_world - wz_cmd)^2 / 0.02): turning about the vertical, whatever the posture (0.1 rad/s: 0.61)"},
+      {"pushup_height", &pushUpHeight, "exp(-((h - h_cycle) / 0.05 m)^2), h_cycle = 0.11 m + 0.10 m (1 - cos 2 pi u) / 2 through the repeating prior's cycle u"},
       {"stood", &stood, "1 while standing: pelvis >= 0.70 m and tilt < 10 deg (robot::hasStoodUp)"},
       {"foot_clear", &footClear, "clamp(h_right_sole / (0.12 m lift), 0, 1); 1 when no lift is asked, 0 while the right foot touches the ground (lift as for foot_lift)"},
       {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m lift) / 0.04 m)^2), lift = amplitude or a two-stage pose's late weight; 0 while the right foot touches the ground"},

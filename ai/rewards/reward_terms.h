@@ -24,6 +24,7 @@ struct RewardContext {
   /// where the pelvis was (world x, y) when the current zero command began or the last push ended; nullptr while
   /// the command is not zero or the environment does not track it
   const Eigen::Vector2d* anchor = nullptr;
+  int phaseTick = 0;  ///< the skill's prior clock (robot::PhaseClock::tp) this tick
 };
 
 /// The pelvis height of the G1 standing in its default pose (reference/g1/FACTS.md) [m].
@@ -35,6 +36,11 @@ constexpr double kPronePelvisHeight = 0.12;
 
 /// foot_lift: the right sole's target height at amplitude 1 [m] (one_leg stands on the left leg).
 constexpr double kFootLiftHeight = 0.12;
+
+/// pushup_height: the pelvis at the bottom and at the top of a push-up (measured with the pushup prior alone
+/// from the prone pose: 0.10-0.12 m and 0.19-0.23 m) [m].
+constexpr double kPushUpPelvisLow = 0.11;
+constexpr double kPushUpPelvisHigh = 0.21;
 
 /// The pelvis height a skill is asked for at an amplitude command (its commands.pelvis_height, linear).
 inline double targetPelvisHeight(const robot::SkillDef& skill, double amplitude) {

@@ -145,3 +145,43 @@ TEST(RewardTerms, StandUpTermsGrowFromLyingToStanding) {
   c.sensors.basePosition.z() = 0.69;  // 1 cm short of the stand
   EXPECT_EQ(term("stood", c.get()), 0.0);
 }
+
+TEST(RewardTerms, PushUpHeightFollowsThePriorsCycleDownAtItsStartUpHalfWay) {
+  Context c;
+  c.skill.prior.kind = robot::PriorDef::Kind::Keyframes;
+  c.skill.prior.cycleStartTick = 60;  // a 0.6 s lead-in, then a 1.6 s cycle
+  c.skill.prior.cycleTicks = 220;
+  auto at = [&](int tick, double pelvis) {
+    c.sensors.basePosition.z() = pelvis;
+    ai::RewardContext ctx = c.get();
+    ctx.phaseTick = tick;
+    return term("pushup_height", ctx);
+  };
+  EXPECT_NEAR(at(60, 0.11), 1.0, 1e-12);   // the cycle's start: down (0.11 m)
+  EXPECT_NEAR(at(140, 0.21), 1.0, 1e-12);  // half way: up (0.21 m)
+  EXPECT_NEAR(at(140, 0.16), std::exp(-1.0), 1e-12);  // 0.05 m short
+  EXPECT_NEAR(at(100, 0.16), 1.0, 1e-12);  // a quarter: half way up, (1 - cos(pi / 2)) / 2
+  EXPECT_NEAR(at(20, 0.11), 1.0, 1e-12);   // the lead-in: down
+  EXPECT_LT(at(60, 0.21), 0.02);           // up when it should be down
+  c.skill.prior.cycleTicks = 0;            // no repeating prior: nothing to follow
+  EXPECT_EQ(at(140, 0.21), 0.0);
+}
+
+TEST(RewardTerms, CrawlTermsMeasureAlongTheWayTheHeadPointsWhateverThePosture) {
+  Context c;
+  // face down, head toward +x: the pelvis pitched 90 deg forward (its x axis at the ground, its z axis along +x)
+  c.sensors.baseRotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+  const Eigen::Matrix3d toBody = c.sensors.baseRotation.toRotationMatrix().transpose();
+  c.command.vx = 0.3;
+  c.sensors.linearVelocity = toBody * Eigen::Vector3d(0.3, 0.0, 0.0);  // crawling at the command
+  EXPECT_NEAR(term("crawl_velocity", c.get()), 1.0, 1e-12);
+  c.sensors.linearVelocity = toBody * Eigen::Vector3d(0.1, 0.1, 0.0);  // 0.2 m/s short, 0.1 m/s sideways
+  EXPECT_NEAR(term("crawl_velocity", c.get()), std::exp(-(0.04 + 0.01) / 0.05), 1e-12);
+  c.sensors.linearVelocity = toBody * Eigen::Vector3d(0.0, 0.0, 0.3);  // the pelvis frame's own x is up: no credit
+  EXPECT_NEAR(term("crawl_velocity", c.get()), std::exp(-(0.09 + 0.0) / 0.05), 1e-12);
+  // turning about the vertical at 0.1 rad/s, whatever the body axis that is
+  c.sensors.angularVelocity = toBody * Eigen::Vector3d(0.0, 0.0, 0.1);
+  EXPECT_NEAR(term("heading_rate", c.get()), std::exp(-0.5), 1e-12);
+  c.sensors.angularVelocity = toBody * Eigen::Vector3d(0.5, 0.0, 0.0);  // rocking about the heading is not turning
+  EXPECT_NEAR(term("heading_rate", c.get()), 1.0, 1e-12);
+}

@@ -270,6 +270,20 @@ TEST(SkillTree, BadEntriesAreLocated) {
             std::string::npos) << errorOf(notHome);
   const std::string odd = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nrepeat = true\nkeys = [{ t = 0.3, offset = { knee = 1 } }, { t = 0.51, offset = { knee = 0 } }]\n";
   EXPECT_NE(errorOf(odd).find("an even number of hundredths"), std::string::npos) << errorOf(odd);
+  // a lead-in and a cycle: from a key (not the last) to the last, which repeats it
+  const std::string keys3 = "keys = [{ t = 0.5, offset = { knee = 1 } }, { t = 1.0, offset = { knee = 0.5 } }, { t = 1.5, offset = { knee = %s } }]\n";
+  auto withFrom = [&](const char* from, const char* last) {
+    char k[256];
+    std::snprintf(k, sizeof k, keys3.c_str(), last);
+    return walk + "[skill.walk.prior]\ntype = \"keyframes\"\nrepeat_from = " + from + "\n" + k;
+  };
+  EXPECT_NE(errorOf(withFrom("0.7", "1")).find("t.toml:21: skill.walk.prior.repeat_from must be the t of a key before the last"),
+            std::string::npos) << errorOf(withFrom("0.7", "1"));
+  EXPECT_NE(errorOf(withFrom("1.5", "1")).find("must be the t of a key before the last"), std::string::npos);
+  EXPECT_NE(errorOf(withFrom("0.5", "0.5")).find("t.toml:21: skill.walk.prior.repeat_from: the last key must be within 0.05 rad of the key at repeat_from"),
+            std::string::npos) << errorOf(withFrom("0.5", "0.5"));
+  EXPECT_NE(errorOf(withFrom("0.5", "0") + "repeat = true\n").find("give one of them"), std::string::npos)
+      << errorOf(withFrom("0.5", "0") + "repeat = true\n");
   const std::string good = phase + "[skill.walk.curriculum]\nvx_max = [1.0, 2.0]\nT1 = [40, 30]\nadvance_at = 1.2\n";
   EXPECT_EQ(errorOf(good), "");
 }
@@ -334,6 +348,26 @@ TEST(KeyframesPrior, ARepeatingMotionWrapsItsClockToTheStart) {
   robot::PdCommand pd;
   robot::skillPdCommand(model(), *tree.find("walk"), std::array<float, robot::kActionSize>{}, clock, robot::SkillCommand{}, &pd);
   EXPECT_NEAR(pd.target[3] - model().joints[3].defaultPosition, 1.0, 1e-12);  // the second cycle's first key
+  // a lead-in, then the cycle from the key at repeat_from to the last (which repeats it)
+  std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", repeat_from = 0.5, keys = "
+                                    "[{ t = 0.5, offset = { knee = 1.0 } }, { t = 0.9, offset = { knee = 0.2 } }, { t = 1.3, offset = { knee = 1.0 } }] }\n"
+                                    "[skill.walk.rewards]\nlive = 1\n" + gains;
+  const robot::SkillTree leadIn = robot::loadSkillTree(dir + "/t.toml", model());
+  const robot::PriorDef& cycle = leadIn.find("walk")->prior;
+  EXPECT_EQ(cycle.cycleStartTick, 50);
+  EXPECT_EQ(cycle.halfPeriodTicks, 40);  // the cycle 0.5 -> 1.3 s is 80 ticks
+  robot::PhaseClock lead;
+  for (int i = 0; i < 129; ++i) lead.advance(cycle, robot::SkillCommand{});
+  EXPECT_EQ(lead.tp, 129);
+  lead.advance(cycle, robot::SkillCommand{});
+  EXPECT_EQ(lead.tp, 50);  // back to the cycle's first key, not to the lead-in from the default pose
+  for (int i = 0; i < 40; ++i) lead.advance(cycle, robot::SkillCommand{});
+  robot::skillPdCommand(model(), *leadIn.find("walk"), std::array<float, robot::kActionSize>{}, lead, robot::SkillCommand{}, &pd);
+  EXPECT_NEAR(pd.target[3] - model().joints[3].defaultPosition, 0.2, 1e-12);  // half way round: the middle key
+  double s0, c0, s1, c1;  // the phase observation is continuous across the wrap (once round per cycle)
+  robot::phaseSignal(129, cycle.halfPeriodTicks, &s0, &c0);
+  robot::phaseSignal(50, cycle.halfPeriodTicks, &s1, &c1);
+  EXPECT_NEAR(std::atan2(s1, c1) - std::atan2(s0, c0), 2 * M_PI / 80, 1e-9);
   // only keyframes repeat
   std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"phase\", repeat = true }\n"
                                     "[skill.walk.rewards]\nlive = 1\n" + gains;
@@ -406,4 +440,25 @@ TEST(Switching, AStandUpHandsOverToAnUprightSkillOnlyOnceTheRobotStandsStill) {
   // between ground skills, or out of an upright one, posture never holds a switch back
   EXPECT_TRUE(robot::postureAllowsSwitch(standup, crawl, sensors(0.12, 86, 0.0)));
   EXPECT_TRUE(robot::postureAllowsSwitch(walk, standup, sensors(0.5, 25, 0.3)));
+}
+
+TEST(Switching, AGroundBranchTakesOverFromProneOnlyOnceTheRobotLiesStill) {
+  robot::SkillDef prone, pushup;
+  prone.name = "prone", prone.parent = "walk";
+  pushup.name = "pushup", pushup.parent = "prone";
+  prone.termination.maxForwardPitchDegrees = 120;  // both ground skills
+  pushup.termination.maxForwardPitchDegrees = 120;
+  auto sensors = [](double z, double pitchDeg, double speed) {
+    robot::Sensors s;
+    s.baseRotation = Eigen::AngleAxisd(pitchDeg * M_PI / 180, Eigen::Vector3d::UnitY());
+    s.basePosition = Eigen::Vector3d(0, 0, z);
+    s.linearVelocity = s.baseRotation.inverse() * Eigen::Vector3d(0, 0, -speed);  // sinking, body frame
+    return s;
+  };
+  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.78, 0, 0.0)));   // still standing (prone's first tick)
+  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.40, 60, 0.5)));  // going down onto the hands
+  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 86, 0.3)));  // down, still sinking
+  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 50, 0.0)));  // low, but not face down
+  EXPECT_TRUE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 86, 0.05)));  // lying face down, still
+  EXPECT_TRUE(robot::postureAllowsSwitch(pushup, prone, sensors(0.20, 60, 0.3)));   // back down: not held
 }

@@ -1,0 +1,352 @@
+// ground_card.cpp — measures a ground card: lie down under the parent, then the skill from lying (stand up and
+// hand over to the up skill, or push-ups).
+#include "ai/eval/ground_card.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include "ai/env/terrain.h"
+#include "ai/env/worker_pool.h"
+#include "engine/core/error.h"
+#include "engine/loop/clock.h"
+#include "game/session.h"
+#include "robot/skill_controller.h"
+
+namespace ai {
+namespace {
+
+double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+
+enum Stage { kLying = 0, kRising = 1, kAfter = 2, kDone = 3 };  // kRising: the measured skill (stand-up or other)
+
+// push-ups: a rise of the torso counts once it is `rise` above the lowest point since the last one came down by as much
+struct RiseCounter {
+  double low = 1e9, high = -1e9;
+  bool up = false;  // a rise counted, waiting for the torso to come down
+  int count = 0;
+  double sum = 0;   // trough to crest of each rise that came down again [m]
+  int done = 0;
+  void add(double z, double rise) {
+    if (!up) {
+      low = std::min(low, z);
+      if (z - low >= rise) up = true, high = z, ++count;
+    } else {
+      high = std::max(high, z);
+      if (high - z >= rise) up = false, sum += high - low, ++done, low = z;
+    }
+  }
+};
+
+struct Episode {
+  robot::RobotModel model;
+  std::unique_ptr<engine::PhysicsWorld> world;
+  std::unique_ptr<robot::Robot> robot;
+  std::mt19937_64 rng;
+  robot::Sensors sensors;
+  robot::PhaseClock phase, fadePhase;
+  std::array<float, robot::kActionSize> action{};
+  const robot::SkillDef* driving = nullptr;  // the skill in control
+  const robot::SkillDef* fadingFrom = nullptr;
+  int fadeTicks = 0;
+  Stage stage = kLying;
+  int stageTick = 0;    // ticks in the current stage
+  int lieTicks = 0;     // drawn: how long the parent lies down
+  bool lyingAtSwitch = false;
+  int standTick = -1;   // ticks after the switch to the stand-up when the robot first stood (-1: never) ...
+  int handOverTick = -1;  // ... and when it had settled there and the up skill took over
+  RiseCounter torso, chest;  // push-ups: the torso link's origin, and the shoulders' midpoint (reported)
+  robot::SkillCommand command;  // the measured skill's (a crawl's forward speed); the others run at zero
+  // crawls: where the tunnel starts and its direction, the progress along it and how long it went without 0.1 m more
+  Eigen::Vector2d start = Eigen::Vector2d::Zero(), along = Eigen::Vector2d::UnitX();
+  double best = 0, side = 0;
+  int reachTick = -1, gainTick = 0, longestStall = 0;
+  bool outside = false;
+  double friction = 1;
+  Stage fellIn = kDone;  // where it fell (kDone: it did not)
+  robot::FallCause fallCause = robot::FallCause::None;
+};
+
+// the switch as the runtime makes it (game::Session::switchTo): the action carries over, the gait clock is
+// carried (a keyframes prior starts from its first key) and the old prior fades out on its own clock
+void switchSkill(Episode& e, const robot::SkillDef& to) {
+  e.fadePhase = e.phase;
+  robot::carryPhase(e.driving->prior, to.prior, &e.phase);
+  e.fadingFrom = e.driving;
+  e.fadeTicks = robot::kSwitchFadeTicks;
+  e.driving = &to;
+  e.stageTick = 0;
+}
+
+}  // namespace
+
+namespace {
+CardResult pushUpResult(const robot::SkillDef& skill, const robot::CardDef& o, const DrivingSkill& parent,
+                        const std::vector<Episode>& eps);
+CardResult crawlResult(const robot::SkillDef& skill, const robot::CardDef& o, const DrivingSkill& parent,
+                       const std::vector<Episode>& eps);
+}  // namespace
+
+CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
+                         const CardRun& run, const DrivingSkill& parent, const DrivingSkill& up) {
+  const robot::CardDef& o = run.card;
+  const bool standUp = o.kind == robot::CardDef::Kind::StandUp, crawl = o.kind == robot::CardDef::Kind::Crawl;
+  if (!standUp && !crawl && o.kind != robot::CardDef::Kind::PushUp)
+    throw engine::Error("ground card of '" + skill.name + "': the card is not a standup, pushup or crawl card");
+  if (!parent.def || !parent.policy || (standUp && (!up.def || !up.policy)))
+    throw engine::Error("ground card of '" + skill.name + "': needs the models of its parent" +
+                        (standUp ? std::string(" and of its up skill") : std::string()));
+  WorkerPool pool(run.threads);
+  std::mt19937_64 seeder(run.seed);
+  const int n = o.episodes;
+  std::vector<Episode> eps(static_cast<size_t>(n));
+  const robot::RandomisationDef& r = skill.randomisation;
+  for (Episode& e : eps) e.rng.seed(seeder());
+  pool.parallelFor(n, [&](int i) {
+    Episode& e = eps[size_t(i)];
+    e.model = model;
+    const double friction = e.friction = r.friction.lo + (r.friction.hi - r.friction.lo) * unit(e.rng);
+    e.model.articulation.base.mass += r.addedMass.lo + (r.addedMass.hi - r.addedMass.lo) * unit(e.rng);
+    e.lieTicks = int(std::lround((o.lieSeconds.lo + (o.lieSeconds.hi - o.lieSeconds.lo) * unit(e.rng)) / engine::kTickSeconds));
+    e.world = std::make_unique<engine::PhysicsWorld>();
+    e.world->addGround(friction);
+    e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, M_PI * (2 * unit(e.rng) - 1));
+    e.sensors = e.robot->sense(*e.world);
+    e.driving = parent.def;
+    if (crawl) e.command.vx = o.vx.lo + (o.vx.hi - o.vx.lo) * unit(e.rng);
+  });
+  const int riseTicks = int(std::lround(o.riseSeconds / engine::kTickSeconds));
+  // a late stand is still timed; other skills run the card's episode_s
+  const int riseCap = standUp ? riseTicks + int(std::lround(3.0 / engine::kTickSeconds))
+                              : int(std::lround(o.episodeSeconds / engine::kTickSeconds));
+  const int afterTicks = int(std::lround(o.afterSeconds / engine::kTickSeconds));
+  const robot::SkillCommand still;  // the parent and the up skill run at a zero command
+  const DrivingSkill measured{&skill, policy};
+  const DrivingSkill* drivers[3] = {&parent, &measured, &up};
+  Eigen::MatrixXf obs(robot::kObservationSize, n);
+  Eigen::MatrixXf act[3];
+
+  for (;;) {
+    bool any[3] = {false, false, false};
+    for (int i = 0; i < n; ++i) {
+      const Episode& e = eps[size_t(i)];
+      if (e.stage == kDone) continue;
+      any[e.stage] = true;
+      double s, c;
+      robot::phaseSignal(e.phase.tp, e.driving->prior.halfPeriodTicks, &s, &c);
+      robot::Observation ob;
+      robot::buildObservation(e.sensors, model, e.action, e.stage == kRising ? e.command : still, s, c, &ob);
+      for (int k = 0; k < robot::kObservationSize; ++k) obs(k, i) = ob[size_t(k)];
+    }
+    if (!any[0] && !any[1] && !any[2]) break;
+    for (int k = 0; k < 3; ++k)
+      if (any[k]) drivers[k]->policy(obs, &act[k]);
+    pool.parallelFor(n, [&](int i) {
+      Episode& e = eps[size_t(i)];
+      if (e.stage == kDone) return;
+      const robot::SkillCommand& command = e.stage == kRising ? e.command : still;
+      robot::filterAction(*e.driving, act[e.stage].col(i).data(), &e.action);
+      e.phase.advance(e.driving->prior, command);
+      robot::PdCommand pd;
+      robot::skillPdCommand(e.model, *e.driving, e.action, e.phase, command, &pd);
+      if (e.fadeTicks > 0) {
+        e.fadePhase.advance(e.fadingFrom->prior, command);
+        robot::fadePrior(e.model, *e.fadingFrom, e.fadePhase, *e.driving, e.phase, command,
+                         double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
+        --e.fadeTicks;
+      }
+      e.robot->setCommand(pd);
+      for (int k = 0; k < game::kSubsteps; ++k) {
+        e.robot->applyPd(*e.world);
+        e.world->step(game::kSubstepSeconds);
+      }
+      e.sensors = e.robot->sense(*e.world);
+      ++e.stageTick;
+      if (e.stage == kRising && e.standTick < 0 && robot::hasStoodUp(e.sensors)) e.standTick = e.stageTick;
+      if (e.stage == kRising && crawl) {
+        const Eigen::Vector2d d = e.sensors.basePosition.head<2>() - e.start;
+        const double progress = d.dot(e.along);
+        e.side = std::max(e.side, std::abs(d.dot(Eigen::Vector2d(-e.along.y(), e.along.x()))));
+        if (progress >= e.best + 0.1) {
+          e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
+          e.best = progress, e.gainTick = e.stageTick;
+        }
+        if (e.reachTick < 0 && progress >= o.crawlDistance) e.reachTick = e.stageTick;
+        e.outside = e.outside || e.side > 0.5 * skill.terrain.width;
+      } else if (e.stage == kRising && !standUp) {
+        const Eigen::Isometry3d torso = e.robot->linkPose(*e.world, model.torso);
+        e.torso.add(torso.translation().z(), o.pushUpRise);
+        e.chest.add((torso * robot::kChestInTorso).z(), o.pushUpRise);
+      }
+      const robot::FallCause cause = robot::fallCause(e.driving->termination, e.sensors);
+      if (cause != robot::FallCause::None) {
+        e.fellIn = e.stage;
+        e.fallCause = cause;
+        e.stage = kDone;
+        return;
+      }
+      if (e.stage == kLying && e.stageTick >= e.lieTicks) {
+        const double pitch = robot::forwardPitch(e.sensors) * 180.0 / M_PI;
+        e.lyingAtSwitch = e.sensors.basePosition.z() < 0.35 && pitch >= 70 && pitch <= 110;
+        switchSkill(e, skill);
+        e.stage = kRising;
+        if (crawl) {  // the tunnel over the robot, along the way it faces, from just behind its feet
+          e.start = e.sensors.basePosition.head<2>();
+          e.along = robot::groundHeading(e.sensors);
+          addCeiling(*e.world, skill.terrain, e.start, std::atan2(e.along.y(), e.along.x()), 1.0,
+                     o.crawlDistance + 2.5, skill.terrain.width, e.friction);
+        }
+      } else if (standUp && e.stage == kRising && robot::postureAllowsSwitch(skill, *up.def, e.sensors)) {  // as the runtime does
+        if (e.standTick < 0) e.standTick = e.stageTick;
+        e.handOverTick = e.stageTick;
+        switchSkill(e, *up.def);
+        e.stage = kAfter;
+      } else if ((e.stage == kRising && (e.stageTick >= riseCap || e.reachTick >= 0 || e.outside)) ||
+                 (e.stage == kAfter && e.stageTick >= afterTicks)) {
+        if (e.stage == kRising && crawl && e.reachTick < 0) e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
+        e.stage = kDone;
+      }
+    });
+  }
+
+  if (crawl) return crawlResult(skill, o, parent, eps);
+  if (!standUp) return pushUpResult(skill, o, parent, eps);
+  int handedOver = 0;
+  double handOverSeconds = 0;
+  for (const Episode& e : eps)
+    if (e.handOverTick >= 0) ++handedOver, handOverSeconds += e.handOverTick * engine::kTickSeconds;
+  int success = 0, stood = 0, lying = 0, fellLying = 0, fellRising = 0, fellAfter = 0, side = 0, back = 0, over = 0;
+  double seconds = 0, slowest = 0;
+  for (const Episode& e : eps) {
+    lying += e.lyingAtSwitch;
+    if (e.standTick >= 0) {
+      ++stood;
+      seconds += e.standTick * engine::kTickSeconds;
+      slowest = std::max(slowest, e.standTick * engine::kTickSeconds);
+    }
+    fellLying += e.fellIn == kLying;
+    fellRising += e.fellIn == kRising;
+    fellAfter += e.fellIn == kAfter;
+    if (e.fellIn == kRising) {
+      side += e.fallCause == robot::FallCause::Side;
+      back += e.fallCause == robot::FallCause::Back;
+      over += e.fallCause == robot::FallCause::OverHead;
+    }
+    success += e.standTick >= 0 && e.standTick <= riseTicks && e.handOverTick >= 0 && e.fellIn == kDone;
+  }
+  CardResult res;
+  const double pct = 100.0 / std::max(1, n);
+  char name[192];
+  std::snprintf(name, sizeof name, "episodes standing (pelvis >= %.2f m, tilt < %.0f deg) within %.1f s, then %s %.0f s up",
+                robot::kStoodPelvisHeight, robot::kStoodTiltDegrees, o.riseSeconds, up.def->name.c_str(), o.afterSeconds);
+  char bar[48];
+  std::snprintf(bar, sizeof bar, ">= %g %%", o.successPercent);
+  res.figures.push_back({name, pct * success, o.successPercent < 0 ? "(reported)" : bar,
+                         o.successPercent < 0 || pct * success >= o.successPercent});
+  res.figures.push_back({"mean time to stand [s]", stood ? seconds / stood : 1e9, "(reported)", true});
+  res.figures.push_back({"slowest stand [s]", stood ? slowest : 1e9, "(reported)", true});
+  std::snprintf(name, sizeof name, "mean time to %s's takeover (standing and settled) [s]", up.def->name.c_str());
+  res.figures.push_back({name, handedOver ? handOverSeconds / handedOver : 1e9, "(reported)", true});
+  std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(), parent.def->name.c_str());
+  res.figures.push_back({name, pct * lying, "(reported)", true});
+  std::snprintf(name, sizeof name, "  falls: lying down %d; standing up %d (side %d, back %d, over the head %d); under %s %d",
+                fellLying, fellRising, side, back, over, up.def->name.c_str(), fellAfter);
+  res.figures.push_back({name, double(fellLying + fellRising + fellAfter), "(reported)", true});
+  res.pass = true;
+  for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;
+  res.score = 2.0 * success / std::max(1, n) + double(stood) / std::max(1, n) -
+              (stood ? std::min(1.0, seconds / stood / std::max(0.1, o.riseSeconds)) : 1.0);
+  return res;
+}
+
+namespace {
+
+CardResult pushUpResult(const robot::SkillDef& skill, const robot::CardDef& o, const DrivingSkill& parent,
+                        const std::vector<Episode>& eps) {
+  const int n = int(eps.size());
+  int success = 0, lying = 0, fellLying = 0, fellSkill = 0, cycles = 0, fewest = 1 << 30, done = 0, chestDone = 0;
+  double rise = 0, chestRise = 0;
+  for (const Episode& e : eps) {
+    lying += e.lyingAtSwitch;
+    fellLying += e.fellIn == kLying;
+    fellSkill += e.fellIn == kRising;
+    cycles += e.torso.count;
+    fewest = std::min(fewest, e.torso.count);
+    rise += e.torso.sum, done += e.torso.done;
+    chestRise += e.chest.sum, chestDone += e.chest.done;
+    success += e.fellIn == kDone && e.torso.count >= o.pushUps;
+  }
+  CardResult res;
+  const double pct = 100.0 / std::max(1, n);
+  char name[192], bar[48];
+  std::snprintf(name, sizeof name, "episodes with >= %d push-ups (torso rising >= %.2f m) in %.0f s, no fall", o.pushUps,
+                o.pushUpRise, o.episodeSeconds);
+  std::snprintf(bar, sizeof bar, ">= %g %%", o.successPercent);
+  res.figures.push_back({name, pct * success, o.successPercent < 0 ? "(reported)" : bar,
+                         o.successPercent < 0 || pct * success >= o.successPercent});
+  res.figures.push_back({"mean push-ups per episode", double(cycles) / std::max(1, n), "(reported)", true});
+  res.figures.push_back({"fewest push-ups in an episode", n ? double(fewest) : 0.0, "(reported)", true});
+  res.figures.push_back({"mean torso rise per push-up, trough to crest [m]", done ? rise / done : 0.0, "(reported)", true});
+  res.figures.push_back({"mean chest (shoulders) rise per push-up [m]", chestDone ? chestRise / chestDone : 0.0, "(reported)", true});
+  std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(), parent.def->name.c_str());
+  res.figures.push_back({name, pct * lying, "(reported)", true});
+  std::snprintf(name, sizeof name, "  falls: lying down %d; during %s %d", fellLying, skill.name.c_str(), fellSkill);
+  res.figures.push_back({name, double(fellLying + fellSkill), "(reported)", true});
+  res.pass = true;
+  for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;
+  res.score = 2.0 * success / std::max(1, n) + std::min(1.0, double(cycles) / std::max(1, n * o.pushUps)) -
+              double(fellSkill) / std::max(1, n);
+  return res;
+}
+
+CardResult crawlResult(const robot::SkillDef& skill, const robot::CardDef& o, const DrivingSkill& parent,
+                       const std::vector<Episode>& eps) {
+  const int n = int(eps.size());
+  const double limit = o.crawlDistance / o.crawlSpeed;  // the slowest that passes [s]
+  int success = 0, reached = 0, lying = 0, fellLying = 0, fellSkill = 0, outside = 0;
+  double seconds = 0, slowest = 0, stall = 0, progress = 0, side = 0;
+  for (const Episode& e : eps) {
+    lying += e.lyingAtSwitch;
+    fellLying += e.fellIn == kLying;
+    fellSkill += e.fellIn == kRising;
+    outside += e.outside;
+    progress += std::min(e.best, o.crawlDistance);
+    side = std::max(side, e.side);
+    stall = std::max(stall, e.longestStall * engine::kTickSeconds);
+    if (e.reachTick >= 0) {
+      ++reached;
+      seconds += e.reachTick * engine::kTickSeconds;
+      slowest = std::max(slowest, e.reachTick * engine::kTickSeconds);
+    }
+    success += e.reachTick >= 0 && e.reachTick * engine::kTickSeconds <= limit && e.fellIn == kDone && !e.outside;
+  }
+  CardResult res;
+  const double pct = 100.0 / std::max(1, n);
+  char name[192], bar[48];
+  std::snprintf(name, sizeof name, "episodes crawling %.1f m under a %.2f m ceiling at >= %.2f m/s, no fall", o.crawlDistance,
+                skill.terrain.ceilingHeight, o.crawlSpeed);
+  std::snprintf(bar, sizeof bar, ">= %g %%", o.successPercent);
+  res.figures.push_back({name, pct * success, o.successPercent < 0 ? "(reported)" : bar,
+                         o.successPercent < 0 || pct * success >= o.successPercent});
+  std::snprintf(name, sizeof name, "mean speed over the %.1f m (episodes that got there) [m/s]", o.crawlDistance);
+  res.figures.push_back({name, reached ? o.crawlDistance * reached / seconds : 0.0, "(reported)", true});
+  std::snprintf(name, sizeof name, "slowest to %.1f m [s]", o.crawlDistance);
+  res.figures.push_back({name, reached ? slowest : 1e9, "(reported)", true});
+  res.figures.push_back({"mean progress along the tunnel [m]", progress / std::max(1, n), "(reported)", true});
+  res.figures.push_back({"longest stall (no 0.1 m of progress) [s]", stall, "(reported)", true});
+  res.figures.push_back({"largest drift across the tunnel (pelvis) [m]", side, "(reported)", true});
+  std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(), parent.def->name.c_str());
+  res.figures.push_back({name, pct * lying, "(reported)", true});
+  std::snprintf(name, sizeof name, "  falls: lying down %d; during %s %d; out of the tunnel's side %d", fellLying, skill.name.c_str(),
+                fellSkill, outside);
+  res.figures.push_back({name, double(fellLying + fellSkill), "(reported)", true});
+  res.pass = true;
+  for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;
+  res.score = 2.0 * success / std::max(1, n) + progress / std::max(1, n) / o.crawlDistance - double(fellSkill) / std::max(1, n);
+  return res;
+}
+
+}  // namespace
+}  // namespace ai
