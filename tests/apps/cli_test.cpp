@@ -74,6 +74,17 @@ TEST(Cli, KeyZeroWhileLyingStandsUpAndTheWalkGoesOn) {
   EXPECT_NE(r.out.find("requested keys: 0, 7"), std::string::npos) << r.out;
 }
 
+TEST(Cli, KeyEightLiesDownFirstThenPushesUpAndKeyZeroStandsBackUp) {
+  // walk, then 8: routed walk -> prone -> pushup, the push-ups only once the robot lies still (not one tick after
+  // prone, from standing); then 0: pushup -> standup (its way up) -> walk
+  const CliRun r = run("play levels/flat --keys pushups.keys --seconds 22 --expect alive");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("walk->prone at 4.50 s"), std::string::npos) << r.out;  // at rest after the stop
+  EXPECT_NE(r.out.find("prone->pushup at 6."), std::string::npos) << r.out;    // lying still ~2.3 s later
+  EXPECT_NE(r.out.find("pushup->standup at 14.00 s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("standup->walk at 18."), std::string::npos) << r.out;
+}
+
 TEST(Cli, BadArgumentsExitWithCodeTwo) {
   EXPECT_EQ(run("play levels/flat --bogus").code, 2);
   EXPECT_EQ(run("play levels/flat --seconds abc").code, 2);
