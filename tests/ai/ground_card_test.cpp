@@ -25,6 +25,10 @@ struct Tree {
   const robot::SkillDef& prone = *tree.find("prone");
   const robot::SkillDef& walk = *tree.find("walk");
   robot::SkillDef standup = *tree.find("standup");
+  // a push-up or crawl card of `skill`, its prior and prone's alone (zero network output)
+  ai::CardResult groundCard(const robot::SkillDef& skill, ai::CardRun run) const {
+    return ai::runGroundCard(fixtures::robotModel(), skill, kZero, run, {&prone, kZero}, {});
+  }
   ai::CardRun run() const {
     ai::CardRun r{standup.card, 7, 1};
     r.card.episodes = 3;
@@ -63,7 +67,7 @@ TEST(PushUpCard, ThePriorsAloneLieDownThenPushUpSixTimesInTenSeconds) {
   robot::SkillDef pushup = *t.tree.find("pushup");
   ai::CardRun run{pushup.card, 7, 1};
   run.card.episodes = 2;
-  const ai::CardResult r = ai::runGroundCard(fixtures::robotModel(), pushup, kZero, run, {&t.prone, kZero}, {});
+  const ai::CardResult r = t.groundCard(pushup, run);
   EXPECT_EQ(figure(r, "lying face down when").value, 100.0);
   EXPECT_EQ(figure(r, "fewest push-ups").value, 6.0);
   EXPECT_NEAR(figure(r, "mean torso rise per push-up").value, 0.13, 0.02);
@@ -71,14 +75,14 @@ TEST(PushUpCard, ThePriorsAloneLieDownThenPushUpSixTimesInTenSeconds) {
   EXPECT_TRUE(r.pass);
   // a bar of 0.2 m for the torso's rise is out of its reach: no push-up counts
   run.card.pushUpRise = 0.2;
-  const ai::CardResult high = ai::runGroundCard(fixtures::robotModel(), pushup, kZero, run, {&t.prone, kZero}, {});
+  const ai::CardResult high = t.groundCard(pushup, run);
   EXPECT_EQ(figure(high, "mean push-ups per episode").value, 0.0);
   EXPECT_FALSE(high.pass);
 }
 
 // the crawl's prior alone (zero network output) after prone's lying down: on hands and knees under the tunnel's
-// 0.6 m ceiling it crawls forward (0.31 m/s at friction 1, by itself; the policy steers it); without its gait the
-// robot stays where it lay and fails
+// 0.6 m ceiling it crawls forward (0.45 m/s along its heading at friction 1, by itself); without its gait the robot
+// stays where it lay and fails
 TEST(CrawlCard, ThePriorAloneCrawlsForwardUnderTheCeilingAndStandingStillFails) {
   Tree t;
   robot::SkillDef crawl = *t.tree.find("crawl");
@@ -86,12 +90,12 @@ TEST(CrawlCard, ThePriorAloneCrawlsForwardUnderTheCeilingAndStandingStillFails) 
   run.card.episodes = 2;
   run.card.crawlDistance = 1.5;  // 1.5 m within 6 s
   crawl.randomisation.friction = {1.0, 1.0};  // the prior alone is friction-sensitive (crawl.train.md): at 1 it crawls
-  const ai::CardResult r = ai::runGroundCard(fixtures::robotModel(), crawl, kZero, run, {&t.prone, kZero}, {});
+  const ai::CardResult r = t.groundCard(crawl, run);
   EXPECT_EQ(figure(r, "lying face down when").value, 100.0);
   EXPECT_GT(figure(r, "mean progress along the tunnel").value, 1.0);
   EXPECT_GT(figure(r, "mean speed over the").value, 0.2);  // from the switch: the 1.5 s onto all fours included
   crawl.prior.kind = robot::PriorDef::Kind::None;  // zero output only holds the default pose: it does not crawl
-  const ai::CardResult still = ai::runGroundCard(fixtures::robotModel(), crawl, kZero, run, {&t.prone, kZero}, {});
+  const ai::CardResult still = t.groundCard(crawl, run);
   EXPECT_LT(figure(still, "mean progress along the tunnel").value, 0.3);
   EXPECT_EQ(figure(still, "episodes crawling").value, 0.0);
   EXPECT_FALSE(still.pass);
