@@ -143,8 +143,13 @@ void Session::controlSystem() {
     // into a still skill from rest, into a slower one at its top speed: the active skill brakes first
     if (next && ready && active_ && robot::switchWaits(active_->def, next->def)) {
       const engine::CommandState& c = input_.state();
+      // the keys' command as the active skill gets it (clamped into its ranges, as controlSystem does below): right
+      // after a routed hop (run -> walk -> prone, W held) the keys still give the run's speed
+      const robot::CommandDef& range = active_->def.commands;
       robot::SkillCommand keysCommand;
-      keysCommand.vx = c.vx, keysCommand.vy = c.vy, keysCommand.wz = c.wz;
+      keysCommand.vx = std::clamp(c.vx, std::min(range.vx.lo, 0.0), std::max(range.vx.hi, 0.0));
+      keysCommand.vy = std::clamp(c.vy, std::min(range.vy.lo, 0.0), std::max(range.vy.hi, 0.0));
+      keysCommand.wz = std::clamp(c.wz, std::min(range.wz.lo, 0.0), std::max(range.wz.hi, 0.0));
       if (restWaitTicks_ < 0) {  // start braking from the command the keys give now
         restWaitTicks_ = 0;
         brake_ = keysCommand;
