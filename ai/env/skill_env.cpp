@@ -68,6 +68,7 @@ struct SkillEnv::Env {
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   std::array<float, robot::kObservationSize> finalObservation{};
   Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // hold_position: where a zero command (or a push) began
+  Eigen::Vector2d lineStart = Eigen::Vector2d::Zero(), lineHeading = Eigen::Vector2d::UnitX();  // crawl_line, heading_hold
 };
 
 SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
@@ -169,6 +170,8 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
     addCeiling(*e.world, skill_.terrain, e.sensors.basePosition.head<2>(), 0.0, 20.0, 40.0, 40.0, friction);
   }
   e.previousAction = e.action;
+  e.lineStart = e.sensors.basePosition.head<2>();  // the episode's motion starts here (after a handover: lying)
+  e.lineHeading = robot::groundHeading(e.sensors);
   e.ball = skill_.ball.enabled ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
   if (e.ball >= 0) e.ballState = e.world->ballState(e.ball);
   e.tick = 0;
@@ -295,7 +298,8 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
 
     // reward
     RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_,
-                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor, e.phase.tp};
+                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor, e.phase.tp,
+                      &e.lineStart, &e.lineHeading};
     double reward = 0;
     for (size_t k = 0; k < terms_.size(); ++k) {
       const double v = terms_[k].weight * terms_[k].term->value(ctx);

@@ -118,6 +118,19 @@ double crawlVelocity(const RewardContext& c) {
   const double forward = v.dot(h) - c.command->vx, side = v.dot(Eigen::Vector2d(-h.y(), h.x())) - c.command->vy;
   return std::exp(-(forward * forward + side * side) / 0.05);
 }
+// on the line the episode began on, along the way the robot faced then (a tunnel's middle)
+double crawlLine(const RewardContext& c) {
+  if (!c.lineStart || !c.lineHeading) return 0.0;
+  const Eigen::Vector2d d = c.sensors->basePosition.head<2>() - *c.lineStart;
+  const double off = d.dot(Eigen::Vector2d(-c.lineHeading->y(), c.lineHeading->x()));
+  return std::exp(-off * off / 0.1);
+}
+double headingHold(const RewardContext& c) {
+  if (!c.lineHeading) return 0.0;
+  const Eigen::Vector2d h = robot::groundHeading(*c.sensors);
+  const double e = std::atan2(c.lineHeading->x() * h.y() - c.lineHeading->y() * h.x(), c.lineHeading->dot(h));
+  return std::exp(-e * e / 0.04);
+}
 double headingRate(const RewardContext& c) {
   const double e = (c.sensors->baseRotation * c.sensors->angularVelocity).z() - c.command->wz;
   return std::exp(-e * e / 0.02);
@@ -161,6 +174,8 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"stand_height", &standHeight, "clamp((h - 0.12 m) / (0.70 m - 0.12 m), 0, 1): from lying up to standing"},
       {"upright", &upright, "max(0, cos tilt): the pelvis upright"},
       {"crawl_velocity", &crawlVelocity, "exp(-((v_f - vx_cmd)^2 + (v_s - vy_cmd)^2) / 0.05), world velocity along / across the way the head points (pelvis z on the ground; pelvis x when upright)"},
+      {"crawl_line", &crawlLine, "exp(-d^2 / 0.1), d: the pelvis's offset across the line the episode began on (start and heading after the handover)"},
+      {"heading_hold", &headingHold, "exp(-e^2 / 0.04), e: the heading's angle from the one the episode began with (robot::groundHeading)"},
       {"heading_rate", &headingRate, "exp(-(wz_world - wz_cmd)^2 / 0.02): turning about the vertical, whatever the posture (0.1 rad/s: 0.61)"},
       {"pushup_height", &pushUpHeight, "exp(-((h - h_cycle) / 0.05 m)^2), h_cycle = 0.11 m + 0.10 m (1 - cos 2 pi u) / 2 through the repeating prior's cycle u"},
       {"stood", &stood, "1 while standing: pelvis >= 0.70 m and tilt < 10 deg (robot::hasStoodUp)"},

@@ -25,6 +25,10 @@ struct RewardContext {
   /// the command is not zero or the environment does not track it
   const Eigen::Vector2d* anchor = nullptr;
   int phaseTick = 0;  ///< the skill's prior clock (robot::PhaseClock::tp) this tick
+  /// crawl_line, heading_hold: where the episode's motion began (world x, y: the pelvis after the handover) and
+  /// the way the robot faced then (robot::groundHeading); nullptr where the environment does not track them
+  const Eigen::Vector2d* lineStart = nullptr;
+  const Eigen::Vector2d* lineHeading = nullptr;
 };
 
 /// The pelvis height of the G1 standing in its default pose (reference/g1/FACTS.md) [m].

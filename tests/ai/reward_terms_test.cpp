@@ -184,4 +184,17 @@ TEST(RewardTerms, CrawlTermsMeasureAlongTheWayTheHeadPointsWhateverThePosture) {
   EXPECT_NEAR(term("heading_rate", c.get()), std::exp(-0.5), 1e-12);
   c.sensors.angularVelocity = toBody * Eigen::Vector3d(0.5, 0.0, 0.0);  // rocking about the heading is not turning
   EXPECT_NEAR(term("heading_rate", c.get()), 1.0, 1e-12);
+  // the line the episode began on: from (1, 2) along +x; the robot 3 m on and 0.3 m to the left, facing 0.2 rad left
+  const Eigen::Vector2d start(1, 2), along(1, 0);
+  ai::RewardContext ctx = c.get();
+  EXPECT_EQ(term("crawl_line", ctx), 0.0);  // not tracked here
+  ctx.lineStart = &start, ctx.lineHeading = &along;
+  c.sensors.basePosition = Eigen::Vector3d(4.0, 2.3, 0.3);
+  c.sensors.baseRotation = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
+  EXPECT_NEAR(term("crawl_line", ctx), std::exp(-0.09 / 0.1), 1e-12);
+  EXPECT_NEAR(term("heading_hold", ctx), std::exp(-0.04 / 0.04), 1e-12);
+  c.sensors.basePosition = Eigen::Vector3d(-2.0, 2.0, 0.3);  // behind the start, on the line, facing the start's way
+  c.sensors.baseRotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
+  EXPECT_NEAR(term("crawl_line", ctx), 1.0, 1e-12);
+  EXPECT_NEAR(term("heading_hold", ctx), 1.0, 1e-12);
 }
