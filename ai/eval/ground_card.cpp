@@ -1,5 +1,5 @@
 // ground_card.cpp — measures a ground card: lie down under the parent, then the skill from lying (stand up and
-// hand over to the up skill, or push-ups).
+// hand over to the up skill, push-ups, or a crawl through a tunnel).
 #include "ai/eval/ground_card.h"
 
 #include <algorithm>
