@@ -25,6 +25,12 @@ struct Tree {
   const robot::SkillDef& prone = *tree.find("prone");
   const robot::SkillDef& walk = *tree.find("walk");
   robot::SkillDef standup = *tree.find("standup");
+  // two episodes of `skill`'s own card at `seed`, on one thread
+  static ai::CardRun twoEpisodes(const robot::SkillDef& skill, uint64_t seed) {
+    ai::CardRun r{skill.card, seed, 1};
+    r.card.episodes = 2;
+    return r;
+  }
   // a push-up or crawl card of `skill`, its prior and prone's alone (zero network output)
   ai::CardResult groundCard(const robot::SkillDef& skill, ai::CardRun run) const {
     return ai::runGroundCard(fixtures::robotModel(), skill, kZero, run, {&prone, kZero}, {});
@@ -65,8 +71,7 @@ TEST(StandUpCard, ASkillThatDoesNotRiseFailsIt) {
 TEST(PushUpCard, ThePriorsAloneLieDownThenPushUpSixTimesInTenSeconds) {
   Tree t;
   robot::SkillDef pushup = *t.tree.find("pushup");
-  ai::CardRun run{pushup.card, 7, 1};
-  run.card.episodes = 2;
+  ai::CardRun run = Tree::twoEpisodes(pushup, 7);
   const ai::CardResult r = t.groundCard(pushup, run);
   EXPECT_EQ(figure(r, "lying face down when").value, 100.0);
   EXPECT_EQ(figure(r, "fewest push-ups").value, 6.0);
@@ -86,8 +91,7 @@ TEST(PushUpCard, ThePriorsAloneLieDownThenPushUpSixTimesInTenSeconds) {
 TEST(CrawlCard, ThePriorAloneCrawlsForwardUnderTheCeilingAndStandingStillFails) {
   Tree t;
   robot::SkillDef crawl = *t.tree.find("crawl");
-  ai::CardRun run{crawl.card, 3, 1};
-  run.card.episodes = 2;
+  ai::CardRun run = Tree::twoEpisodes(crawl, 3);
   run.card.crawlDistance = 1.5;  // 1.5 m within 6 s
   crawl.randomisation.friction = {1.0, 1.0};  // the prior alone is friction-sensitive (crawl.train.md): at 1 it crawls
   const ai::CardResult r = t.groundCard(crawl, run);
