@@ -85,6 +85,18 @@ TEST(Cli, KeyEightLiesDownFirstThenPushesUpAndKeyZeroStandsBackUp) {
   EXPECT_NE(r.out.find("standup->walk at 18."), std::string::npos) << r.out;
 }
 
+TEST(Cli, FromTheCrawlKeyZeroStandsUpThenTheWalkGoesOn) {
+  // walk, then 9: routed walk -> prone -> crawl once the robot lies still; W crawls; then 0: crawl -> standup (its
+  // way up; the crawl does not come to rest at a zero command, so the switch comes when the 1.5 s wait runs out)
+  // -> walk once the robot stands
+  const CliRun r = run("play levels/flat --keys crawl.keys --seconds 25 --expect alive");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("walk->prone at 4.50 s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("prone->crawl at 6."), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("crawl->standup at 17.00 s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("standup->walk at 21."), std::string::npos) << r.out;
+}
+
 TEST(Cli, BadArgumentsExitWithCodeTwo) {
   EXPECT_EQ(run("play levels/flat --bogus").code, 2);
   EXPECT_EQ(run("play levels/flat --seconds abc").code, 2);
