@@ -97,6 +97,15 @@ TEST(Cli, FromTheCrawlKeyZeroStandsUpThenTheWalkGoesOn) {
   EXPECT_NE(r.out.find("standup->walk at 21."), std::string::npos) << r.out;
 }
 
+TEST(Cli, FromARunTheProneKeyFirstSlowsToAStopThroughTheWalk) {
+  // run, W held, then 7: routed run -> walk -> prone; the run brakes to rest before the walk takes over (before,
+  // the walk took over at the run's speed and fell braking in 3 of 4 seeds)
+  const CliRun r = run("play levels/flat --keys run_then_prone.keys --seconds 14 --expect alive");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("run->walk at 7.00 s"), std::string::npos) << r.out;  // 1 s of braking after the key
+  EXPECT_NE(r.out.find("walk->prone at 8."), std::string::npos) << r.out;
+}
+
 TEST(Cli, BadArgumentsExitWithCodeTwo) {
   EXPECT_EQ(run("play levels/flat --bogus").code, 2);
   EXPECT_EQ(run("play levels/flat --seconds abc").code, 2);
