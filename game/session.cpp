@@ -121,6 +121,18 @@ void Session::inputSystem(const std::vector<engine::KeyEvent>& events) {
 }
 
 
+namespace {
+// the keys' velocity command clamped into a skill's command ranges (and to 0 where a range excludes it): the keys
+// ramp within the active skill's ranges (setLimits), and the clamp covers the ramp's way there after a switch
+robot::SkillCommand keysWithin(const engine::CommandState& c, const robot::CommandDef& range) {
+  robot::SkillCommand command;
+  command.vx = std::clamp(c.vx, std::min(range.vx.lo, 0.0), std::max(range.vx.hi, 0.0));
+  command.vy = std::clamp(c.vy, std::min(range.vy.lo, 0.0), std::max(range.vy.hi, 0.0));
+  command.wz = std::clamp(c.wz, std::min(range.wz.lo, 0.0), std::max(range.wz.hi, 0.0));
+  return command;
+}
+}  // namespace
+
 // the requested skill drives the robot if its model is loaded; otherwise the standing controller does.
 // A request for a skill that is not a parent or child of the active one is routed along the tree, one switch
 // at a time, each once the robot is upright and the previous hop has run kMinHopTicks; into a still skill or a
@@ -142,14 +154,9 @@ void Session::controlSystem() {
                  (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_));
     // into a still skill from rest, into a slower one at its top speed: the active skill brakes first
     if (next && ready && active_ && robot::switchWaits(active_->def, next->def)) {
-      const engine::CommandState& c = input_.state();
-      // the keys' command as the active skill gets it (clamped into its ranges, as controlSystem does below): right
-      // after a routed hop (run -> walk -> prone, W held) the keys still give the run's speed
-      const robot::CommandDef& range = active_->def.commands;
-      robot::SkillCommand keysCommand;
-      keysCommand.vx = std::clamp(c.vx, std::min(range.vx.lo, 0.0), std::max(range.vx.hi, 0.0));
-      keysCommand.vy = std::clamp(c.vy, std::min(range.vy.lo, 0.0), std::max(range.vy.hi, 0.0));
-      keysCommand.wz = std::clamp(c.wz, std::min(range.wz.lo, 0.0), std::max(range.wz.hi, 0.0));
+      // the keys' command as the active skill gets it: right after a routed hop (run -> walk -> prone, W held) the
+      // keys still give the run's speed
+      const robot::SkillCommand keysCommand = keysWithin(input_.state(), active_->def.commands);
       if (restWaitTicks_ < 0) {  // start braking from the command the keys give now
         restWaitTicks_ = 0;
         brake_ = keysCommand;
@@ -173,12 +180,7 @@ void Session::controlSystem() {
   }
   telemetry_.skillsUsed.insert(active_->def.name);
   const engine::CommandState& c = input_.state();
-  // the keys ramp within the active skill's command ranges (setLimits); clamp too, for the ramp's way there
-  const robot::CommandDef& range = active_->def.commands;
-  robot::SkillCommand command;
-  command.vx = std::clamp(c.vx, std::min(range.vx.lo, 0.0), std::max(range.vx.hi, 0.0));
-  command.vy = std::clamp(c.vy, std::min(range.vy.lo, 0.0), std::max(range.vy.hi, 0.0));
-  command.wz = std::clamp(c.wz, std::min(range.wz.lo, 0.0), std::max(range.wz.hi, 0.0));
+  robot::SkillCommand command = keysWithin(c, active_->def.commands);
   command.amplitude = c.amplitude;
   if (restWaitTicks_ >= 0) {  // a switch waits for rest or a slower speed: brake instead of following the keys
     const engine::CommandLimits& keys = input_.limits();

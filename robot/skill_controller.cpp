@@ -216,10 +216,13 @@ bool hasStoodUp(const Sensors& sensors) {
   return sensors.basePosition.z() >= kStoodPelvisHeight && sensors.tilt < kStoodTiltDegrees * M_PI / 180.0;
 }
 
-bool isLyingStill(const Sensors& s) {
+bool isLyingFaceDown(const Sensors& s) {
   const double pitch = forwardPitch(s) * 180.0 / M_PI;
-  const Eigen::Vector3d v = s.baseRotation * s.linearVelocity;
-  return s.basePosition.z() < 0.35 && pitch >= 70.0 && pitch <= 110.0 && v.norm() < kRestSpeed;
+  return s.basePosition.z() < 0.35 && pitch >= 70.0 && pitch <= 110.0;
+}
+
+bool isLyingStill(const Sensors& s) {
+  return isLyingFaceDown(s) && (s.baseRotation * s.linearVelocity).norm() < kRestSpeed;
 }
 
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors) {

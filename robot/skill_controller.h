@@ -101,8 +101,10 @@ bool hasStoodUp(const Sensors& sensors);
 /// from standing, one tick after prone.
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors);
 
-/// Lying face down as prone leaves the robot (pelvis below 0.35 m, forward pitch 70-110 deg, as prone's card and
-/// the ground cards count it) and still (moving and sinking slower than kRestSpeed).
+/// Lying face down as prone leaves the robot: pelvis below 0.35 m, forward pitch 70-110 deg (as the ground cards
+/// count it when the skill begins).
+bool isLyingFaceDown(const Sensors& sensors);
+/// Lying face down and still (moving and sinking slower than kRestSpeed).
 bool isLyingStill(const Sensors& sensors);
 
 /// True for a skill that stands where it is: its commands have no vx, vy or wz range.

@@ -188,8 +188,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
         return;
       }
       if (e.stage == kLying && e.stageTick >= e.lieTicks) {
-        const double pitch = robot::forwardPitch(e.sensors) * 180.0 / M_PI;
-        e.lyingAtSwitch = e.sensors.basePosition.z() < 0.35 && pitch >= 70 && pitch <= 110;
+        e.lyingAtSwitch = robot::isLyingFaceDown(e.sensors);
         switchSkill(e, skill);
         e.stage = kRising;
         if (crawl) {  // the tunnel over the robot, along the way it faces, from just behind its feet
