@@ -126,6 +126,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
   std::map<std::string, Given> given;  // which inheritable tables each skill wrote itself
   tree.path = path;
   tree.directory = std::filesystem::path(path).parent_path().string();
+  if (tree.directory.empty()) tree.directory = ".";  // a bare file name: the models sit beside it, here
   if (const toml::table* ppo = r.table(root, "ppo", false, "tree")) {
     std::ostringstream ss;
     ss << *ppo;

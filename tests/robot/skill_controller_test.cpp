@@ -190,6 +190,28 @@ TEST(SkillTree, BranchInheritsTheControllerTablesItDoesNotWrite) {
   EXPECT_DOUBLE_EQ(a.actionFilter, 0.5);  // its own
 }
 
+TEST(SkillTree, ATreeNamedWithoutAFolderFindsItsModelsInTheWorkingFolder) {
+  // `treelearn --tree t.toml ...` from the tree's own folder: the models are beside it (not at "/walk.onnx")
+  const std::string dir = testing::TempDir() + "/tree_bare";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n"
+                                    "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
+                                    "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
+                                    "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(dir);
+  std::string bare;
+  try {
+    bare = robot::loadSkillTree("t.toml", model()).directory;
+  } catch (...) {
+    std::filesystem::current_path(before);
+    throw;
+  }
+  std::filesystem::current_path(before);
+  EXPECT_EQ(bare, ".");
+  EXPECT_EQ(robot::loadSkillTree(dir + "/t.toml", model()).directory, dir);
+}
+
 TEST(SkillTree, BadEntriesAreLocated) {
   const std::string dir = testing::TempDir() + "/tree_bad";
   std::filesystem::create_directories(dir);
