@@ -152,6 +152,11 @@ void Session::controlSystem() {
     // (and a stand-up hands over to the walk once the robot stands: robot::postureAllowsSwitch)
     bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks) &&
                  (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_));
+    // a skill that starts from the default pose (the jump) waits for a squat to come back up first
+    if (next && active_ && robot::startsFromDefaultPose(next->def) && input_.state().amplitude > 0) {
+      input_.lowerAmplitude();
+      ready = false;
+    }
     // into a still skill from rest, into a slower one at its top speed: the active skill brakes first
     if (next && ready && active_ && robot::switchWaits(active_->def, next->def)) {
       // the keys' command as the active skill gets it: right after a routed hop (run -> walk -> prone, W held) the

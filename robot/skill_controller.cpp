@@ -127,6 +127,15 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
     out->target[j] = std::clamp(out->target[j], model.joints[j].lower, model.joints[j].upper);
 }
 
+bool startsFromDefaultPose(const SkillDef& skill) { return !isGroundSkill(skill) && skill.prior.kind == PriorDef::Kind::Keyframes; }
+
+bool isStandingSettled(const Sensors& sensors) {
+  if (!atRestForSwitch(sensors) || std::abs((sensors.baseRotation * sensors.linearVelocity).z()) >= kRestSpeed) return false;
+  for (int j = 0; j < 12; ++j)  // the legs (joints 0-11)
+    if (std::abs(sensors.qd[size_t(j)]) >= kSettledJointSpeed) return false;
+  return true;
+}
+
 bool isStillSkill(const SkillDef& skill) {
   const CommandDef& c = skill.commands;
   return c.vx.lo == 0 && c.vx.hi == 0 && c.vy.lo == 0 && c.vy.hi == 0 && c.wz.lo == 0 && c.wz.hi == 0;
@@ -227,6 +236,7 @@ bool isLyingStill(const Sensors& s) {
 
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors) {
   if (isGroundSkill(from) && isGroundSkill(to) && to.parent == from.name) return isLyingStill(sensors);
+  if ((startsFromDefaultPose(from) || startsFromDefaultPose(to)) && !isStandingSettled(sensors)) return false;
   if (!isGroundSkill(from) || isGroundSkill(to)) return true;
   const double vz = (sensors.baseRotation * sensors.linearVelocity).z();
   return hasStoodUp(sensors) && atRestForSwitch(sensors) && std::abs(vz) < kRestSpeed;

@@ -4,6 +4,8 @@
 // see research/gewu-g1-facts.md §1.9), mapped to our Z-up, X-forward frame.
 #pragma once
 
+#include <algorithm>
+
 #include <cstdint>
 #include <string>
 
@@ -79,6 +81,10 @@ class CommandInput {
 
   /// Sets vx, vy and wz to 0 (a robot put back at rest, e.g. a respawn): held keys ramp them up again from there.
   void stopMotion() { state_.vx = state_.vy = state_.wz = 0.0; }
+
+  /// Lowers the amplitude by one tick of its rate toward 0 (a skill that starts from the default pose is waiting
+  /// for the squat to rise); R held raises it again.
+  void lowerAmplitude() { state_.amplitude = std::max(0.0, state_.amplitude - limits_.amplitudeRate); }
 
   /// Replaces targets and rates (e.g. when the active skill changes); values keep ramping from where they are.
   void setLimits(const CommandLimits& limits) { limits_ = limits; }

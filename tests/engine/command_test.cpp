@@ -207,6 +207,22 @@ TEST(CommandInput, AmplitudeRampsWithRAndFAndClampsToZeroOne) {
   EXPECT_NEAR(input.state().amplitude, 0.75, 1e-12);
 }
 
+TEST(CommandInput, LowerAmplitudeStepsDownAtTheKeysRateToZero) {
+  // the session lowers a squat's depth this way before a skill that starts from the default pose (the jump)
+  CommandInput input;
+  press(input, 'R');
+  run(input, 30);
+  release(input, 'R');
+  run(input, 1);
+  ASSERT_NEAR(input.state().amplitude, 0.3, 1e-12);
+  for (int i = 0; i < 10; ++i) input.lowerAmplitude();
+  EXPECT_NEAR(input.state().amplitude, 0.2, 1e-12);  // 10 x 0.01
+  for (int i = 0; i < 50; ++i) input.lowerAmplitude();
+  EXPECT_EQ(input.state().amplitude, 0.0);  // clamped
+  run(input, 5);
+  EXPECT_EQ(input.state().amplitude, 0.0);  // and it stays there with no key held
+}
+
 TEST(CommandInput, SetLimitsRampsToTheNewTargetAtTheRate) {
   CommandInput input;
   press(input, 'W');

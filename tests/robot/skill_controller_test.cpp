@@ -464,6 +464,25 @@ TEST(Switching, AStandUpHandsOverToAnUprightSkillOnlyOnceTheRobotStandsStill) {
   EXPECT_TRUE(robot::postureAllowsSwitch(walk, standup, sensors(0.5, 25, 0.3)));
 }
 
+TEST(Switching, AKeyPoseSkillTakesOverOnlyOnceTheRobotStandsSettled) {
+  robot::SkillDef squat, jump, walk;
+  squat.name = "squat", jump.name = "jump", walk.name = "walk";
+  jump.prior.kind = robot::PriorDef::Kind::Keyframes;
+  robot::Sensors s;
+  s.basePosition = Eigen::Vector3d(0, 0, 0.78);
+  s.footContact = {true, true};
+  EXPECT_TRUE(robot::postureAllowsSwitch(squat, jump, s));  // standing still
+  s.qd[3] = 1.2;                                              // the left knee still bending (stepping in place)
+  EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s));
+  EXPECT_TRUE(robot::postureAllowsSwitch(squat, walk, s));   // a policy's skill takes over as before
+  s.qd[3] = 0.1;
+  s.footContact = {true, false};                              // one foot up
+  EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s));
+  s.footContact = {true, true};
+  s.linearVelocity = Eigen::Vector3d(0.4, 0, 0);              // moving
+  EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s));
+}
+
 TEST(Switching, AGroundBranchTakesOverFromProneOnlyOnceTheRobotLiesStill) {
   robot::SkillDef prone, pushup;
   prone.name = "prone", prone.parent = "walk";
