@@ -152,7 +152,7 @@ void Session::controlSystem() {
     // (and a stand-up hands over to the walk once the robot stands: robot::postureAllowsSwitch)
     bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks) &&
                  (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_));
-    // a skill that starts from the default pose (the jump) waits for a squat to come back up first
+    // a skill that starts from the default pose (the jump, the kick) waits for a squat or a lift to come back first
     if (next && active_ && robot::startsFromDefaultPose(next->def) && input_.state().amplitude > 0) {
       input_.lowerAmplitude();
       ready = false;

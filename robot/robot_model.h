@@ -14,6 +14,8 @@ namespace robot {
 
 /// Number of actuated joints of the 23-DoF G1.
 constexpr int kNumJoints = 23;
+/// The legs come first in the joint order: joints 0-5 the left leg, 6-11 the right (hip pitch to ankle roll).
+constexpr int kNumLegJoints = 12;
 
 /// The shared joint order (DESIGN.md §3): left leg, right leg, waist, left arm, right arm.
 extern const std::array<const char*, kNumJoints> kJointNames;

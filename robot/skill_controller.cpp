@@ -131,7 +131,7 @@ bool startsFromDefaultPose(const SkillDef& skill) { return !isGroundSkill(skill)
 
 bool isStandingSettled(const Sensors& sensors) {
   if (!atRestForSwitch(sensors) || std::abs((sensors.baseRotation * sensors.linearVelocity).z()) >= kRestSpeed) return false;
-  for (int j = 0; j < 12; ++j)  // the legs (joints 0-11)
+  for (int j = 0; j < kNumLegJoints; ++j)
     if (std::abs(sensors.qd[size_t(j)]) >= kSettledJointSpeed) return false;
   return true;
 }

@@ -99,13 +99,13 @@ bool hasStoodUp(const Sensors& sensors);
 /// From a ground skill to one of its ground branches (prone -> pushup, crawl, standup) it waits until the robot lies
 /// face down and still (isLyingStill): a request routed walk -> prone -> pushup would otherwise start the push-ups
 /// from standing, one tick after prone.
-/// Into or out of an upright skill driven by key poses (the jump: its cycle starts from the default pose and comes
-/// back to it) it waits until the robot stands settled (isStandingSettled): routed walk -> squat -> jump, the jump
-/// began one tick after the squat, the legs still stepping in place, and fell at its first landing; out of it, the
-/// squat took over mid-flight. (The session also brings a squat back up first: CommandInput::lowerAmplitude.)
+/// Into or out of an upright skill driven by key poses from the default pose (the jump, the kick) it waits until the
+/// robot stands settled (isStandingSettled): routed walk -> squat -> jump, the jump began one tick after the squat,
+/// the legs still stepping in place, and fell at its first landing; out of it, the squat took over mid-flight. (The
+/// session also brings a squat's depth or a one-leg lift back to 0 first: CommandInput::lowerAmplitude.)
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors);
 
-/// An upright skill whose prior is key poses from the default pose (the jump).
+/// An upright skill whose prior is key poses from the default pose (the jump, the kick).
 bool startsFromDefaultPose(const SkillDef& skill);
 /// Leg joints slower than this [rad/s], with atRestForSwitch, is standing settled.
 constexpr double kSettledJointSpeed = 0.3;

@@ -82,8 +82,8 @@ class CommandInput {
   /// Sets vx, vy and wz to 0 (a robot put back at rest, e.g. a respawn): held keys ramp them up again from there.
   void stopMotion() { state_.vx = state_.vy = state_.wz = 0.0; }
 
-  /// Lowers the amplitude by one tick of its rate toward 0 (a skill that starts from the default pose is waiting
-  /// for the squat to rise); R held raises it again.
+  /// Lowers the amplitude by one tick of its rate toward 0 (a skill that starts from the default pose waits for a
+  /// squat's depth or a one-leg lift to come back); R held raises it again.
   void lowerAmplitude() { state_.amplitude = std::max(0.0, state_.amplitude - limits_.amplitudeRate); }
 
   /// Replaces targets and rates (e.g. when the active skill changes); values keep ramping from where they are.
