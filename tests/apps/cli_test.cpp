@@ -85,6 +85,15 @@ TEST(Cli, KeyEightLiesDownFirstThenPushesUpAndKeyZeroStandsBackUp) {
   EXPECT_NE(r.out.find("standup->walk at 18."), std::string::npos) << r.out;
 }
 
+TEST(Cli, KeySixKicksTheBallIntoTheGoalFromAStandingStart) {
+  // levels/penalty: the ball where the kick's card puts it, a goal 4.7 m beyond; the learned kick scores
+  const CliRun r = run("play levels/penalty --keys kick.keys --expect win");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("stand->kick at 0.50 s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("won: the ball is in the goal"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("falls      0"), std::string::npos) << r.out;
+}
+
 TEST(Cli, FromTheCrawlKeyZeroStandsUpThenTheWalkGoesOn) {
   // walk, then 9: routed walk -> prone -> crawl once the robot lies still; W crawls; then 0: crawl -> standup (its
   // way up; the crawl does not come to rest at a zero command, so the switch comes when the 1.5 s wait runs out)
