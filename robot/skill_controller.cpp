@@ -129,8 +129,15 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
 
 bool startsFromDefaultPose(const SkillDef& skill) { return !isGroundSkill(skill) && skill.prior.kind == PriorDef::Kind::Keyframes; }
 
+namespace {
+// at rest on both feet (atRestForSwitch) and neither rising nor sinking
+bool restingLevel(const Sensors& sensors) {
+  return atRestForSwitch(sensors) && std::abs((sensors.baseRotation * sensors.linearVelocity).z()) < kRestSpeed;
+}
+}  // namespace
+
 bool isStandingSettled(const Sensors& sensors) {
-  if (!atRestForSwitch(sensors) || std::abs((sensors.baseRotation * sensors.linearVelocity).z()) >= kRestSpeed) return false;
+  if (!restingLevel(sensors)) return false;
   for (int j = 0; j < kNumLegJoints; ++j)
     if (std::abs(sensors.qd[size_t(j)]) >= kSettledJointSpeed) return false;
   return true;
@@ -238,8 +245,7 @@ bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors
   if (isGroundSkill(from) && isGroundSkill(to) && to.parent == from.name) return isLyingStill(sensors);
   if ((startsFromDefaultPose(from) || startsFromDefaultPose(to)) && !isStandingSettled(sensors)) return false;
   if (!isGroundSkill(from) || isGroundSkill(to)) return true;
-  const double vz = (sensors.baseRotation * sensors.linearVelocity).z();
-  return hasStoodUp(sensors) && atRestForSwitch(sensors) && std::abs(vz) < kRestSpeed;
+  return hasStoodUp(sensors) && restingLevel(sensors);
 }
 
 Eigen::Vector2d groundHeading(const Sensors& s) {
