@@ -187,6 +187,7 @@ void Session::controlSystem() {
   const engine::CommandState& c = input_.state();
   robot::SkillCommand command = keysWithin(c, active_->def.commands);
   command.amplitude = c.amplitude;
+  holdHeading(&command);
   if (restWaitTicks_ >= 0) {  // a switch waits for rest or a slower speed: brake instead of following the keys
     const engine::CommandLimits& keys = input_.limits();
     const robot::SkillCommand& to = brakeTarget_;
@@ -216,6 +217,30 @@ void Session::controlSystem() {
     --fadeTicks_;
   }
   robot_->setCommand(pd);
+}
+
+// W / S (or the sideways keys) with no turn key: an upright skill that can turn keeps to the line the robot was on
+// when it started moving (or the turn keys were released), facing the way it faced then, as a player would steer
+// against a drift. The heading asked for leans back toward the line by atan(line_hold * offset) (the skill's
+// [commands] line_hold; 0: the heading alone), and the turn rate
+// asked for is kHeadingGain times the heading error, at most kHeadingMaxRate (and within the skill's wz range).
+void Session::holdHeading(robot::SkillCommand* command) {
+  const robot::CommandDef& range = active_->def.commands;
+  const bool moving = command->vx != 0.0 || command->vy != 0.0;
+  const bool canTurn = range.wz.hi > 0.0 && range.wz.lo < 0.0 && !robot::isGroundSkill(active_->def);
+  const Eigen::Vector2d p = sensors_.basePosition.head<2>();
+  if (!moving || !canTurn || command->wz != 0.0 || restWaitTicks_ >= 0) {
+    headingRef_ = sensors_.yaw;
+    lineStart_ = p;
+    return;
+  }
+  const Eigen::Vector2d along(std::cos(headingRef_), std::sin(headingRef_));
+  const Eigen::Vector2d d = p - lineStart_;
+  const double offset = along.x() * d.y() - along.y() * d.x();  // left of the line > 0
+  const double wanted = headingRef_ - std::atan(range.lineHold * offset);
+  const double error = std::remainder(wanted - sensors_.yaw, 2.0 * M_PI);
+  const double limit = std::min({kHeadingMaxRate, range.wz.hi, -range.wz.lo});
+  command->wz = std::clamp(kHeadingGain * error, -limit, limit);
 }
 
 void Session::switchTo(const SkillRuntime* next) {

@@ -39,6 +39,10 @@ constexpr double kSwitchMaxTilt = 0.35;
 constexpr int kMinHopTicks = 50;
 // the switch fade and the rest rule for still skills: robot/skill_controller.h (kSwitchFadeTicks, kRestSpeed)
 using robot::kSwitchFadeTicks;
+/// Heading hold while moving without a turn key (Session::holdHeading): turn rate per radian of heading error
+/// [1/s] and its cap [rad/s] (the walk trained with one of vx / vy / wz at a time; at 0.3 the walk swung 0.4 rad)
+constexpr double kHeadingGain = 2.0;
+constexpr double kHeadingMaxRate = 0.2;
 
 struct SessionOptions {
   uint64_t seed = 1;                ///< drives every random choice (today: the initial joint jitter)
@@ -111,6 +115,7 @@ class Session {
   void rulesSystem();
   void telemetrySystem();
   void switchTo(const SkillRuntime* next);
+  void holdHeading(robot::SkillCommand* command);
   void respawn(double x);
 
   const levels::Level& level_;
@@ -139,6 +144,8 @@ class Session {
   int64_t tick_ = 0;
   bool fallen_ = false, down_ = false;
   int64_t fallTick_ = -1;
+  double headingRef_ = 0;  // the heading W holds (holdHeading) ...
+  Eigen::Vector2d lineStart_ = Eigen::Vector2d::Zero();  // ... and a point of the line it keeps to
 };
 
 }  // namespace game

@@ -84,6 +84,10 @@ struct CommandDef {
   /// each interval is resampleSeconds x (1 + U(-jitter, jitter)): without it every change meets the gait at the
   /// same phase (5 s = 6.25 cycles of 0.8 s), and the policy never learns changes at the other phases
   double resampleJitter = 0.0;
+  /// In play only (game::Session's heading hold, W / S / Q / E with no turn key): 0 keeps the heading the robot
+  /// had when it started moving; > 0 also leans that heading back toward the line it started on, by
+  /// atan(lineHold x offset) with the offset in metres
+  double lineHold = 0.0;
 };
 
 struct RandomisationDef {
