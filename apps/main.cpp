@@ -183,10 +183,10 @@ int cmdPlay(const PlayArgs& a) {
   std::fputs(summary.c_str(), stdout);
   if (!a.summary.empty()) engine::writeFileAtomic(a.summary, summary);
   if (!a.log.empty()) {
-    std::string csv = "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s\n";
+    std::string csv = "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s,com_y_m,yaw_rad\n";
     char row[160];
     for (const game::ComSample& c : r.comLog) {
-      std::snprintf(row, sizeof row, "%.2f,%s,%.4f,%.4f,%.4f\n", c.t, c.skill.c_str(), c.x, c.z, c.vx);
+      std::snprintf(row, sizeof row, "%.2f,%s,%.4f,%.4f,%.4f,%.4f,%.4f\n", c.t, c.skill.c_str(), c.x, c.z, c.vx, c.y, c.yaw);
       csv += row;
     }
     engine::writeFileAtomic(a.log, csv);

@@ -33,7 +33,8 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     comX.push_back(com.x());
     if (done % 2 == 0) {
       const double vx = comX.size() > 2 ? (comX.back() - comX[comX.size() - 3]) / (2 * engine::kTickSeconds) : 0.0;
-      result.comLog.push_back({double(done) * engine::kTickSeconds, com.x(), com.z(), vx, session.activeSkillName()});
+      result.comLog.push_back({double(done) * engine::kTickSeconds, com.x(), com.z(), vx, session.activeSkillName(), com.y(),
+                                session.sensors().yaw});
     }
 
     if (options.hashEvery > 0 && done % options.hashEvery == 0) {

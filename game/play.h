@@ -40,6 +40,7 @@ struct SwitchReport {
 struct ComSample {
   double t = 0, x = 0, z = 0, vx = 0;
   std::string skill;
+  double y = 0, yaw = 0;  ///< the centre of mass across the course [m], the pelvis heading [rad]
 };
 
 struct PlayResult {
