@@ -296,6 +296,9 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       ballIntoCommand(e.sensors, e.ballState, &e.command);
     }
 
+    // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead
+    if (e.command.wz != 0.0) e.lineHeading = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.lineHeading;
+
     // reward
     RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_,
                       e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor, e.phase.tp,

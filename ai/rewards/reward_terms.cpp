@@ -175,7 +175,7 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"upright", &upright, "max(0, cos tilt): the pelvis upright"},
       {"crawl_velocity", &crawlVelocity, "exp(-((v_f - vx_cmd)^2 + (v_s - vy_cmd)^2) / 0.05), world velocity along / across the way the head points (pelvis z on the ground; pelvis x when upright)"},
       {"crawl_line", &crawlLine, "exp(-d^2 / 0.1), d: the pelvis's offset across the line the episode began on (start and heading after the handover)"},
-      {"heading_hold", &headingHold, "exp(-e^2 / 0.04), e: the heading's angle from the one the episode began with (robot::groundHeading)"},
+      {"heading_hold", &headingHold, "exp(-e^2 / 0.04), e: the heading's angle from the one the episode began with, turned by the commanded yaw rate since (robot::groundHeading)"},
       {"heading_rate", &headingRate, "exp(-(wz_world - wz_cmd)^2 / 0.02): turning about the vertical, whatever the posture (0.1 rad/s: 0.61)"},
       {"pushup_height", &pushUpHeight, "exp(-((h - h_cycle) / 0.05 m)^2), h_cycle = 0.11 m + 0.10 m (1 - cos 2 pi u) / 2 through the repeating prior's cycle u"},
       {"stood", &stood, "1 while standing: pelvis >= 0.70 m and tilt < 10 deg (robot::hasStoodUp)"},
