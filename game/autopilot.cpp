@@ -11,7 +11,7 @@ namespace {
 constexpr double kGhostRun = 4.0;        // run while a ghost is this close
 constexpr double kStairsStart = 0.45;    // switch to stairs this far before a step
 constexpr double kStairsSlow = 1.5;      // leave run for walk this far before a step
-constexpr double kCeilingStart = 0.7;    // lie down this far before a tunnel
+constexpr double kCeilingStart = 1.8;    // lie down this far before a tunnel (the body falls ~1 m ahead)
 constexpr double kCeilingClear = 0.5;    // stand up this far past the tunnel's end
 constexpr double kBallStop = 0.42;       // stop and kick when the ball is this far ahead
 constexpr double kProneHeight = 0.40;    // lying when the pelvis is this low
