@@ -122,10 +122,18 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
     if (g.gone) continue;
     if (!g.awake && pelvis.x() >= g.def.appearX) {
       g.awake = true;
-      g.body = plane.addKinematicCircle({pelvis.x() - g.def.behind, g.def.height}, g.def.radius, -1);
+      const Eigen::Vector2d start(pelvis.x() - g.def.behind, g.def.height);
+      if (g.body < 0) g.body = plane.addKinematicCircle(start, g.def.radius, -1);
+      else plane.setPosition(g.body, start);
       log(tick, "a ghost appears " + std::to_string(g.def.behind).substr(0, 4) + " m behind");
     }
-    if (!g.awake) continue;
+    if (!g.awake) {
+      if (g.body >= 0) {  // asleep again after a respawn: out of the way of the autopilot's ray casts
+        plane.setVelocity(g.body, Eigen::Vector2d::Zero());
+        plane.setPosition(g.body, {-1000.0, g.def.height});
+      }
+      continue;
+    }
     if (pelvis.x() >= g.def.vanishX) {
       g.gone = true;
       plane.setVelocity(g.body, Eigen::Vector2d::Zero());
@@ -167,6 +175,13 @@ bool Course::onFall(int64_t tick) {
   }
   score_ -= rules_.fallPenalty;
   log(tick, "fell: back to x = " + std::to_string(checkpointX_).substr(0, 5) + ", -" + std::to_string(rules_.fallPenalty));
+  // a ghost that woke beyond the checkpoint goes back to sleep: it wakes again (behind, at its first speed) when the
+  // robot passes its appear_x again (before, a respawn at the start put the robot under the chasing ghost)
+  for (Ghost& g : ghosts_)
+    if (g.awake && !g.gone && g.def.appearX >= checkpointX_) {
+      g.awake = false;
+      g.speed = g.def.speed;
+    }
   return true;
 }
 

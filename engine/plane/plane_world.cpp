@@ -48,6 +48,11 @@ void PlaneWorld::setVelocity(int body, const Eigen::Vector2d& v) {
   impl_->bodies.at(static_cast<size_t>(body))->SetLinearVelocity(b2Vec2(float(v.x()), float(v.y())));
 }
 
+void PlaneWorld::setPosition(int body, const Eigen::Vector2d& centre) {
+  b2Body* b = impl_->bodies.at(static_cast<size_t>(body));
+  b->SetTransform(b2Vec2(float(centre.x()), float(centre.y())), b->GetAngle());
+}
+
 Eigen::Vector2d PlaneWorld::position(int body) const {
   const b2Vec2 p = impl_->bodies.at(static_cast<size_t>(body))->GetPosition();
   return Eigen::Vector2d(p.x, p.y);

@@ -33,6 +33,8 @@ class PlaneWorld {
 
   /// Sets a kinematic body's velocity [m/s] (it moves by it in step()).
   void setVelocity(int body, const Eigen::Vector2d& velocity);
+  /// Moves a body to `centre` at once (a teleport; its velocity is kept).
+  void setPosition(int body, const Eigen::Vector2d& centre);
 
   /// A body's current position.
   Eigen::Vector2d position(int body) const;

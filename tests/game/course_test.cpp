@@ -114,6 +114,23 @@ TEST(Course, AGhostGivesUpWhenTheRobotGetsAway) {
   EXPECT_LT(w.course.ghostDistance(), 0);
 }
 
+TEST(Course, AFallBackBeforeWhereTheGhostWokePutsItToSleepUntilThenAgain) {
+  World w;
+  w.step(3.0, 0.78, 0, {});  // wakes 2 m behind
+  for (int i = 0; i < 100; ++i) w.step(3.0, 0.78, 0, {});
+  ASSERT_GT(w.course.ghostDistance(), 0);
+  ASSERT_TRUE(w.course.onFall(w.tick));  // back to x = 0 (no checkpoint passed), before appear_x = 3
+  w.step(0.0, 0.78, 0, {});
+  EXPECT_LT(w.course.ghostDistance(), 0);  // asleep: no ghost ...
+  const engine::RayHit h = w.plane.rayCast({-5.0, 0.8}, {3.0, 0.8});
+  EXPECT_FALSE(h.hit);                     // ... and nothing left where it was for the autopilot's rays to meet
+  for (int i = 0; i < 300; ++i) w.step(2.0, 0.78, 0, {});
+  EXPECT_EQ(w.course.outcome(), game::Outcome::Playing);
+  w.step(3.0, 0.78, 0, {});  // past appear_x again: 2 m behind, at its first speed
+  w.step(3.0, 0.78, 0, {});
+  EXPECT_NEAR(w.course.ghostDistance(), 2.0 - 0.4, 0.03);
+}
+
 TEST(Course, BallInTheGoalWinsWithTheBonusAndTheTimeLeft) {
   World w;
   engine::BallState s = w.physics.ballState(w.course.firstBall());
