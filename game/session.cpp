@@ -82,7 +82,12 @@ void Session::respawn(double x) {
   // at the default pose at 2 m/s and fell again 0.56 s after every respawn on levels/mario.
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
   base.translation() = Eigen::Vector3d(x, 0.0, model_.spawnHeight);
-  robot_->teleport(physics_, base, robot::Robot::standingCommand(model_).target);
+  // the joints jittered as at the start, by the seed's generator going on: a retry is a new attempt at the stage
+  // (the same pose every time replayed the same fall forever: levels/mario's autopilot fell 10 times in a row at
+  // the tunnel, tick for tick alike), and the run stays a function of the seed and the keys
+  robot::JointArray q = robot::Robot::standingCommand(model_).target;
+  for (double& v : q) v += kInitialJitter * (2.0 * unit(rng_) - 1.0);
+  robot_->teleport(physics_, base, q);
   action_.fill(0.0f);
   phase_ = robot::PhaseClock{};
   sensors_ = robot_->sense(physics_);
@@ -97,6 +102,7 @@ void Session::respawn(double x) {
     telemetry_.switches.back().tick = tick_ + 1;  // the root's first control step is the next tick's
     telemetry_.switches.back().respawn = true;
   }
+  stuckTicks_ = 0;
   fadingFrom_ = nullptr;  // a fresh start: no prior to fade out
   fadeTicks_ = 0;
   restWaitTicks_ = -1;
@@ -256,6 +262,10 @@ void Session::switchTo(const SkillRuntime* next) {
   fadeTicks_ = active_ ? kSwitchFadeTicks : 0;
   active_ = next;
   activeSince_ = tick_;
+  // the new skill keeps the heading held so far, on a line through where it starts (the walk taking the stairs'
+  // robot 0.66 m off the stairs' line turned 1.6 rad back toward it and fell; taking the heading of the moment
+  // instead, the run took over the walk's lean back to its line, 0.19 rad, and ran into levels/mario's wall)
+  lineStart_ = sensors_.basePosition.head<2>();
   // the keys drive the new skill's command ranges (W to its top speed, and so on)
   const robot::CommandDef& r = next->def.commands;
   engine::CommandLimits limits = input_.limits();
@@ -284,8 +294,13 @@ void Session::rulesSystem() {
   telemetry_.distance += (sensors_.basePosition - previous.basePosition).head<2>().norm();
   // a ground skill (prone, crawl: lying is its job) falls by its own termination: onto a side or the back
   const bool ground = active_ && robot::isGroundSkill(active_->def);
+  // an upright skill stuck leaning or slumped (against a wall, on a knee: it cannot switch, kSwitchMaxTilt) for
+  // kStuckTicks counts as down too (levels/mario's autopilot once leaned on the wall in the one-leg stand for 215 s)
+  const bool slumped = active_ && !ground && (sensors_.tilt > kSwitchMaxTilt || sensors_.basePosition.z() < kStuckPelvisHeight);
+  stuckTicks_ = slumped ? stuckTicks_ + 1 : 0;
   const bool down = ground ? robot::hasFallen(active_->def.termination, sensors_)
-                           : sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt;
+                           : sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt ||
+                                 stuckTicks_ >= kStuckTicks;
   if (down && !down_) {
     ++telemetry_.falls;
     if (!fallen_) fallen_ = true, fallTick_ = tick_;

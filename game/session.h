@@ -33,6 +33,10 @@ constexpr double kFallPelvisHeight = 0.45;
 /// ... or the pelvis is tilted more than this from upright [rad] (about 46 degrees).
 constexpr double kFallTilt = 0.8;
 
+/// ... or it has been stuck this many ticks in an upright skill tilted more than kSwitchMaxTilt or with the pelvis
+/// below kStuckPelvisHeight [m] (no switch can take it out of there).
+constexpr int kStuckTicks = 300;
+constexpr double kStuckPelvisHeight = 0.5;
 /// A routed switch waits until the robot is tilted less than this [rad] ...
 constexpr double kSwitchMaxTilt = 0.35;
 /// ... and an intermediate skill of a route has run at least this many ticks.
@@ -101,6 +105,8 @@ class Session {
   const engine::PhysicsWorld& physics() const { return physics_; }
   const levels::Level& level() const { return level_; }
   const robot::Robot& robot() const { return *robot_; }
+  /// True if skill key 0-9 has a loaded model (a key without one leaves the robot to the standing controller).
+  bool hasSkill(int key) const { return skills_ && skills_->byKey(key) != nullptr; }
   /// The game rules of a game level (nullptr for other levels).
   const Course* course() const { return course_.get(); }
   /// Playing, or won / lost (game levels only).
@@ -144,6 +150,7 @@ class Session {
   int64_t tick_ = 0;
   bool fallen_ = false, down_ = false;
   int64_t fallTick_ = -1;
+  int stuckTicks_ = 0;     // ticks slumped in an upright skill (kStuckTicks)
   double headingRef_ = 0;  // the heading W holds (holdHeading) ...
   Eigen::Vector2d lineStart_ = Eigen::Vector2d::Zero();  // ... and a point of the line it keeps to
 };
