@@ -9,15 +9,28 @@ namespace game {
 namespace {
 
 constexpr double kGhostRun = 4.0;        // run while a ghost is this close
-constexpr double kStairsStart = 0.45;    // switch to stairs this far before a step
-constexpr double kStairsSlow = 1.5;      // leave run for walk this far before a step
+constexpr double kStairsStart = 2.0;     // stop this far before a step, then the stairs from rest (from the walk's
+                                         // 0.7 m/s they fell at the first step)
+constexpr double kStairsSlow = 3.0;      // leave run for walk this far before a step
 constexpr double kCeilingStart = 1.8;    // lie down this far before a tunnel (the body falls ~1 m ahead)
 constexpr double kCeilingClear = 0.5;    // stand up this far past the tunnel's end
-constexpr double kBallStop = 0.42;       // stop and kick when the ball is this far ahead
+constexpr double kBallAlignAt = 0.8;     // stop and line up with the ball this far before it (the walk stops in ~0.4 m)
+constexpr double kBallKick = 0.30;       // the kick's card: the ball 0.30 m ahead of the pelvis ...
+constexpr double kBallSide = -0.12;      // ... and 0.12 m to its right (in front of the right foot)
+constexpr double kOffLine = 0.45;        // walking this far off y = 0 (or kOffHeading off +X) with nothing close: re-align
+constexpr double kOffHeading = 0.3;
+constexpr double kRestSpeed = 0.06;      // at rest for the align steps [m/s]
+constexpr double kKeyRamp = 2.0;         // the keys' velocity ramp [m/s^2] and turn ramp [rad/s^2] (engine/input)
+constexpr double kTurnRamp = 3.0;
 constexpr double kProneHeight = 0.40;    // lying when the pelvis is this low
 constexpr double kStoodHeight = 0.70;    // standing again
 constexpr int64_t kProneTimeout = 400, kStandTimeout = 600, kJumpTimeout = 400, kBalanceTicks = 150,
-                  kKickTicks = 250, kRecoverTicks = 150;
+                  kKickTicks = 250, kRecoverTicks = 150, kSettleTicks = 40, kAlignTimeout = 1500, kApproachTimeout = 1500;
+constexpr int kAlignTries = 4;
+constexpr int kMaxPulses = 8;
+constexpr int64_t kPulseTicks = 15;
+
+double wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
 
 }  // namespace
 
@@ -33,7 +46,7 @@ Cues senseCues(const Session& s) {
   };
   // the ground under the robot may be a stair tread: measure heights from the feet
   const double ground = std::min(s.sensors().footHeight[0], s.sensors().footHeight[1]);
-  c.stepAhead = ahead(ground + 0.05, 2.0);
+  c.stepAhead = ahead(ground + 0.05, 4.0);  // far enough to slow from the run (kStairsSlow)
   const double low = ahead(ground + 0.7, 2.0), open = ahead(ground + 0.3, 2.0);
   if (low < 1e9 && open > low + 0.3) c.ceilingAhead = low;
   c.underCeiling = plane.rayCast({p.x(), ground + 0.3}, {p.x(), ground + 1.0}).hit;
@@ -45,7 +58,14 @@ Cues senseCues(const Session& s) {
     if (course->firstBall() >= 0) c.ballAhead = s.physics().ballState(course->firstBall()).position.x() - p.x();
     const auto& ev = course->events();
     c.boxJustHit = !ev.empty() && ev.back().tick + 1 >= s.tick() && ev.back().what.find("question box") != std::string::npos;
+    if (course->firstBall() >= 0) c.ballY = s.physics().ballState(course->firstBall()).position.y();
   }
+  c.y = p.y();
+  c.yaw = s.sensors().yaw;
+  c.speed = (s.sensors().baseRotation * s.sensors().linearVelocity).head<2>().norm();
+  c.commandVx = s.command().vx, c.commandVy = s.command().vy, c.commandWz = s.command().wz;
+  c.respawns = int(s.telemetry().respawns.size());
+  c.canJump = s.hasSkill(4);
   return c;
 }
 
@@ -58,6 +78,8 @@ const char* Autopilot::modeName(Mode m) {
     case Mode::Crawl: return "crawl";
     case Mode::StandUp: return "stand up";
     case Mode::Jump: return "jump";
+    case Mode::Align: return "align";
+    case Mode::Approach: return "approach";
     case Mode::Balance: return "balance";
     case Mode::Kick: return "kick";
     case Mode::Recover: return "recover";
@@ -65,36 +87,155 @@ const char* Autopilot::modeName(Mode m) {
   return "?";
 }
 
+void Autopilot::hold(int64_t tick, char key, bool down, std::vector<engine::KeyEvent>* out) {
+  const size_t at = held_.find(key);
+  if (down == (at != std::string::npos)) return;
+  out->push_back({tick, down ? engine::KeyAction::kDown : engine::KeyAction::kUp, key});
+  if (down) held_ += key;
+  else held_.erase(at, 1);
+  if (key == 'W') forwardHeld_ = down;
+}
+
+void Autopilot::releaseAll(int64_t tick, std::vector<engine::KeyEvent>* out) {
+  while (!held_.empty()) hold(tick, held_.back(), false, out);
+}
+
 void Autopilot::enter(int64_t tick, Mode m, char skillKey, bool forward, std::vector<engine::KeyEvent>* out) {
   mode_ = m;
   since_ = tick;
   if (skillKey) out->push_back({tick, engine::KeyAction::kTap, skillKey});
-  if (forward != forwardHeld_) out->push_back({tick, forward ? engine::KeyAction::kDown : engine::KeyAction::kUp, 'W'});
-  forwardHeld_ = forward;
+  for (const char k : std::string("SADQE")) hold(tick, k, false, out);
+  hold(tick, 'W', forward, out);
+  alignStep_ = 0, alignTries_ = 0, keyUpTick_ = -1;
+}
+
+// one key at a time (the interlock): released early enough that the ramp down stops the motion near the target
+bool Autopilot::align(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out) {
+  const bool still = c.speed < kRestSpeed && c.commandVx == 0 && c.commandVy == 0 && c.commandWz == 0;
+  const bool settled = still && keyUpTick_ >= 0 && tick - keyUpTick_ >= kSettleTicks;
+  const double yawError = wrap(-c.yaw), yError = alignY_ - c.y;
+  switch (alignStep_) {
+    case 0:  // stop
+      if (still) keyUpTick_ = keyUpTick_ < 0 ? tick : keyUpTick_;
+      if (settled) alignStep_ = 1, alignTries_ = 0;
+      return false;
+    case 1:  // turn toward +X
+      if (held_.empty()) {
+        if (!settled) return false;
+        if (std::abs(yawError) < alignYawTol_ || alignTries_ >= kAlignTries) {
+          alignStep_ = 2;
+          return false;
+        }
+        hold(tick, yawError > 0 ? 'A' : 'D', true, out);
+        ++alignTries_;
+        keyUpTick_ = -1;
+      } else if (std::abs(yawError) < c.commandWz * c.commandWz / (2 * kTurnRamp) + 0.5 * alignYawTol_) {
+        releaseAll(tick, out);
+        keyUpTick_ = tick;
+      }
+      return false;
+    default:  // step sideways to the line
+      if (held_.empty()) {
+        if (!settled) return false;
+        if (alignTries_ >= 2 * kAlignTries) return true;
+        if (std::abs(yError) < alignYTol_) {
+          if (std::abs(yawError) < alignYawTol_) return true;
+          alignStep_ = 1;  // the side steps turned it: face +X again
+          return false;
+        }
+        hold(tick, yError > 0 ? 'Q' : 'E', true, out);
+        ++alignTries_;
+        keyUpTick_ = -1;
+      } else if (std::abs(yError) < c.commandVy * c.commandVy / (2 * kKeyRamp) + 0.5 * alignYTol_) {
+        releaseAll(tick, out);
+        keyUpTick_ = tick;
+      }
+      return false;
+  }
+}
+
+bool Autopilot::approach(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out) {
+  const bool still = c.speed < kRestSpeed && c.commandVx == 0;
+  const double error = c.ballAhead - kBallKick;  // > 0: still short of the ball
+  if (held_.empty()) {
+    if (keyUpTick_ >= 0 && (!still || tick - keyUpTick_ < kSettleTicks)) return false;
+    if (std::abs(error) < 0.05 || pulses_ >= kMaxPulses) return true;
+    hold(tick, error > 0 ? 'W' : 'S', true, out);
+    keyUpTick_ = -1;
+    pulses_++;
+    pulseTick_ = tick;
+  } else if (tick - pulseTick_ >= kPulseTicks) {  // a short step's worth of W or S (longer steps pushed the ball)
+    releaseAll(tick, out);
+    keyUpTick_ = tick;
+  }
+  return false;
 }
 
 std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
   std::vector<engine::KeyEvent> out;
   if (!started_) {
     started_ = true;
+    respawnsSeen_ = c.respawns;
+    enter(tick, Mode::Walk, '0', true, &out);
+    return out;
+  }
+  if (c.respawns > respawnsSeen_) {  // put back at a checkpoint: start over from there, walking
+    respawnsSeen_ = c.respawns;
+    releaseAll(tick, &out);
     enter(tick, Mode::Walk, '0', true, &out);
     return out;
   }
   const int64_t in = tick - since_;
+  const bool ghostClose = c.ghost >= 0 && c.ghost < kGhostRun;
   switch (mode_) {
     case Mode::Walk:
     case Mode::Run:
-      if (c.ballAhead < kBallStop && c.ballAhead > -0.2) enter(tick, Mode::Balance, '5', false, &out);
-      else if (c.boxOverhead) enter(tick, Mode::Jump, '4', false, &out);
-      else if (c.ceilingAhead < kCeilingStart) enter(tick, Mode::Prone, '7', false, &out);
-      else if (c.stepAhead < kStairsStart) enter(tick, Mode::Stairs, '2', true, &out);
-      else if (mode_ == Mode::Walk && c.ghost >= 0 && c.ghost < kGhostRun && c.stepAhead > kStairsSlow)
+      if (c.ballAhead < kBallAlignAt && c.ballAhead > kBallKick - 0.15 && !ghostClose) {
+        enter(tick, Mode::Align, 0, false, &out);
+        alignY_ = c.ballY - kBallSide, alignYTol_ = 0.04, alignYawTol_ = 0.05, afterAlign_ = Mode::Approach;
+      } else if (c.boxOverhead && c.canJump && std::abs(c.x - jumpedAtX_) > 1.0) {
+        jumpedAtX_ = c.x;
+        enter(tick, Mode::Jump, '4', false, &out);
+      } else if (c.ceilingAhead < kCeilingStart) {
+        enter(tick, Mode::Prone, '7', false, &out);
+      } else if (c.stepAhead < kStairsStart) {
+        enter(tick, Mode::Stairs, 0, false, &out);
+        stairsStarted_ = false, climbed_ = false;
+      } else if (mode_ == Mode::Walk && ghostClose && c.stepAhead > kStairsSlow) {
         enter(tick, Mode::Run, '1', true, &out);
-      else if (mode_ == Mode::Run && (c.ghost < 0 || c.stepAhead < kStairsSlow)) enter(tick, Mode::Walk, '0', true, &out);
+      } else if (mode_ == Mode::Run && (c.ghost < 0 || c.stepAhead < kStairsSlow)) {
+        enter(tick, Mode::Walk, '0', true, &out);
+      } else if (mode_ == Mode::Walk && !ghostClose && c.stepAhead > 1.0 && c.ceilingAhead > 2.5 && !c.boxOverhead &&
+                 (std::abs(c.y) > kOffLine || std::abs(wrap(c.yaw)) > kOffHeading)) {
+        enter(tick, Mode::Align, 0, false, &out);
+        alignY_ = 0, alignYTol_ = 0.1, alignYawTol_ = 0.1, afterAlign_ = Mode::Walk;
+      }
+      break;
+    case Mode::Align:
+      if (ghostClose && afterAlign_ == Mode::Walk) {  // a ghost came while it stood: run
+        enter(tick, Mode::Run, '1', true, &out);
+      } else if (align(tick, c, &out) || in > kAlignTimeout) {
+        if (afterAlign_ == Mode::Approach) {
+          enter(tick, Mode::Approach, 0, false, &out);
+          pulses_ = 0;
+        }
+        else enter(tick, Mode::Walk, 0, true, &out);
+      }
+      break;
+    case Mode::Approach:
+      if (approach(tick, c, &out) || in > kApproachTimeout) enter(tick, Mode::Balance, '5', false, &out);
       break;
     case Mode::Stairs:
-      // back to walk once the robot is on flat ground with no step ahead for 0.5 m of travel
-      if (c.stepAhead > 1.0 && std::abs(c.pelvisHeight - 0.78) < 0.04) {
+      if (!stairsStarted_) {  // at rest first, then the stairs skill and W
+        if (c.speed < kRestSpeed && c.commandVx == 0 && in > kSettleTicks) {
+          stairsStarted_ = true;
+          enter(tick, Mode::Stairs, '2', true, &out);
+        }
+        break;
+      }
+      // back to walk once the robot has climbed and is on flat ground with no step ahead for 0.5 m of travel
+      if (c.pelvisHeight > 0.85) climbed_ = true;
+      if (climbed_ && c.stepAhead > 1.0 && std::abs(c.pelvisHeight - 0.78) < 0.04) {
         if (flatSince_ < 0) flatSince_ = c.x;
         if (c.x - flatSince_ > 0.5) {
           flatSince_ = -1;
@@ -105,10 +246,13 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       }
       break;
     case Mode::Prone:
-      if (c.pelvisHeight < kProneHeight || in > kProneTimeout) enter(tick, Mode::Crawl, '9', true, &out);
+      if (c.pelvisHeight < kProneHeight || in > kProneTimeout) {
+        ceilingEndX_ = 1e9;  // not under the ceiling yet: it lies down before the tunnel
+        enter(tick, Mode::Crawl, '9', true, &out);
+      }
       break;
     case Mode::Crawl:
-      if (c.underCeiling || c.ceilingAhead < 0.3) ceilingEndX_ = c.x;
+      if (c.underCeiling) ceilingEndX_ = c.x;
       else if (c.x - ceilingEndX_ > kCeilingClear) enter(tick, Mode::StandUp, '0', false, &out);  // routed via standup
       break;
     case Mode::StandUp:

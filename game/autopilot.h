@@ -6,8 +6,12 @@
 //   ghost close behind        -> run (1) with W held, until it gives up or stairs come
 //   a step ahead              -> stairs (2) with W, back to walk (0) on flat ground
 //   a low ceiling ahead       -> prone (7), crawl (9) with W under it, then 0 (routed through standup)
-//   a question box overhead   -> jump (4) until it is hit, then walk on
-//   the ball just ahead       -> one-leg stand (5), then kick (6); walk up to it again if it is still short
+//   a question box overhead   -> jump (4) until it is hit, then walk on (walk under it if no jump is loaded)
+//   the ball ahead            -> stop, face +X and step sideways until the ball is where the kick's card puts
+//                                it (0.12 m right of the pelvis), walk up in short steps to 0.30 m from it,
+//                                then the one-leg stand (5) and the kick (6); again if it is still short
+//   off the course's line     -> (walking, nothing close) stop, turn back to +X, step sideways back to y = 0
+//   put back at a checkpoint  -> walk on from there (every key released first)
 #pragma once
 
 #include <cstdint>
@@ -32,6 +36,14 @@ struct Cues {
   double ghost = -1;          ///< the chasing ghost's distance, -1 if none
   double ballAhead = 1e9;     ///< ball centre x minus pelvis x (1e9: no ball)
   bool boxJustHit = false;    ///< the course reported a box hit this tick
+  // the robot's own state (odometry and the key state, as a player sees the robot)
+  double y = 0;               ///< pelvis y: across the course [m]
+  double yaw = 0;             ///< pelvis heading [rad], 0 = along +X
+  double speed = 0;           ///< horizontal pelvis speed [m/s]
+  double commandVx = 0, commandVy = 0, commandWz = 0;  ///< the keys' ramped command now
+  int respawns = 0;           ///< times the robot has been put back at a checkpoint so far
+  bool canJump = true;        ///< the jump key (4) has a loaded model
+  double ballY = 0;           ///< ball centre y [m]
 };
 
 /// Reads the cues from a running session.
@@ -39,7 +51,7 @@ Cues senseCues(const Session& session);
 
 class Autopilot {
  public:
-  enum class Mode { Walk, Run, Stairs, Prone, Crawl, StandUp, Jump, Balance, Kick, Recover };
+  enum class Mode { Walk, Run, Stairs, Prone, Crawl, StandUp, Jump, Align, Approach, Balance, Kick, Recover };
 
   /// The key events for this tick, given what the robot perceives.
   std::vector<engine::KeyEvent> decide(int64_t tick, const Cues& cues);
@@ -49,9 +61,27 @@ class Autopilot {
 
  private:
   void enter(int64_t tick, Mode m, char skillKey, bool forward, std::vector<engine::KeyEvent>* out);
+  void hold(int64_t tick, char key, bool down, std::vector<engine::KeyEvent>* out);
+  void releaseAll(int64_t tick, std::vector<engine::KeyEvent>* out);
+  /// Align mode: stop, turn to yaw 0, step sideways to alignY_; true once within the tolerances.
+  bool align(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
+  /// Approach mode: short steps forward (W) or back (S) until the ball is kBallKick ahead; true once there.
+  bool approach(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
 
   Mode mode_ = Mode::Walk;
   bool started_ = false, forwardHeld_ = false;
+  std::string held_;          // movement keys held now (W S A D Q E)
+  int respawnsSeen_ = 0;
+  // Align / Approach: the target, the tolerances, the step (stop, turn, side) and when the last key went up
+  double alignY_ = 0, alignYTol_ = 0.1, alignYawTol_ = 0.1;
+  Mode afterAlign_ = Mode::Walk;
+  int alignStep_ = 0, alignTries_ = 0;
+  int64_t keyUpTick_ = -1;
+  int pulses_ = 0;            // Approach: short W / S presses so far ...
+  int64_t pulseTick_ = 0;     // ... and when the latest began
+  double jumpedAtX_ = -1e9;   // where the last jump was (one per box)
+  bool stairsStarted_ = false;  // Stairs mode: at rest and the stairs key pressed ...
+  bool climbed_ = false;        // ... and up the first step (higher than standing on flat ground)
   int64_t since_ = 0;        // tick the current mode began
   double ceilingEndX_ = -1e9;  // last x seen under the tunnel ceiling
   double flatSince_ = -1;    // x where stairs mode last saw flat ground

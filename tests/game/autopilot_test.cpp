@@ -29,17 +29,38 @@ TEST(Autopilot, RunsFromAGhostAndSlowsBeforeTheStairs) {
   c.ghost = 3.0;
   EXPECT_EQ(keys(a.decide(1, c)), "tap 1;");  // W stays held
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Run);
-  c.stepAhead = 1.2;  // stairs coming: back to walk first
+  c.stepAhead = 2.5;  // stairs coming: back to walk first
   EXPECT_EQ(keys(a.decide(2, c)), "tap 0;");
-  c.stepAhead = 0.4;
-  EXPECT_EQ(keys(a.decide(3, c)), "tap 2;");
+  c.stepAhead = 1.9;  // stop, then the stairs from rest
+  c.speed = 0.5, c.commandVx = 0.5;
+  EXPECT_EQ(keys(a.decide(3, c)), "up W;");
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Stairs);
-  // on flat ground again for half a metre: walk
+  EXPECT_EQ(keys(a.decide(100, c)), "");  // still moving
+  c.speed = 0.0, c.commandVx = 0.0;
+  EXPECT_EQ(keys(a.decide(101, c)), "tap 2;down W;");
+  // up a step, then on flat ground again for half a metre: walk
   c = {};
-  c.x = 10.0;
-  EXPECT_EQ(keys(a.decide(4, c)), "");
+  c.x = 9.0, c.pelvisHeight = 0.9;
+  EXPECT_EQ(keys(a.decide(102, c)), "");
+  c.x = 10.0, c.pelvisHeight = 0.78;
+  EXPECT_EQ(keys(a.decide(103, c)), "");
   c.x = 10.6;
-  EXPECT_EQ(keys(a.decide(5, c)), "tap 0;");
+  EXPECT_EQ(keys(a.decide(104, c)), "tap 0;");
+}
+
+TEST(Autopilot, FlatGroundBeforeTheFirstStepDoesNotEndTheStairs) {
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.stepAhead = 1.9;
+  a.decide(1, c);
+  EXPECT_EQ(keys(a.decide(100, c)), "tap 2;down W;");
+  c.stepAhead = 1e9;  // (a ray between steps) the pelvis at standing height on flat ground, not yet up a step
+  c.x = 0.0;
+  a.decide(101, c);
+  c.x = 1.0;
+  EXPECT_EQ(keys(a.decide(102, c)), "");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Stairs);
 }
 
 TEST(Autopilot, LiesDownCrawlsThroughATunnelAndStandsUpAfterIt) {
@@ -63,7 +84,7 @@ TEST(Autopilot, LiesDownCrawlsThroughATunnelAndStandsUpAfterIt) {
   EXPECT_EQ(keys(a.decide(200, c)), "down W;");
 }
 
-TEST(Autopilot, JumpsUnderABoxUntilItIsHitThenKicksTheBall) {
+TEST(Autopilot, JumpsUnderABoxUntilItIsHitThenWalksOn) {
   game::Autopilot a;
   a.decide(0, {});
   game::Cues c;
@@ -71,9 +92,61 @@ TEST(Autopilot, JumpsUnderABoxUntilItIsHitThenKicksTheBall) {
   EXPECT_EQ(keys(a.decide(1, c)), "tap 4;up W;");
   c.boxJustHit = true;
   EXPECT_EQ(keys(a.decide(50, c)), "tap 0;down W;");
-  c = {};
-  c.ballAhead = 0.4;
-  EXPECT_EQ(keys(a.decide(60, c)), "tap 5;up W;");
-  EXPECT_EQ(keys(a.decide(300, c)), "tap 6;");
+  c.boxJustHit = false;
+  EXPECT_EQ(keys(a.decide(51, c)), "");  // one jump per box
+}
+
+TEST(Autopilot, WalksUnderABoxWhenNoJumpIsLoaded) {
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.boxOverhead = true;
+  c.canJump = false;
+  EXPECT_EQ(keys(a.decide(1, c)), "");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Walk);
+}
+
+TEST(Autopilot, LinesUpWithTheBallThenStepsUpToItAndKicks) {
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.ballAhead = 0.75, c.ballY = -0.12;  // the kick wants the ball 0.12 m right of the pelvis: pelvis y 0
+  c.y = -0.2, c.yaw = 0.3, c.speed = 0.5, c.commandVx = 0.5;
+  EXPECT_EQ(keys(a.decide(1, c)), "up W;");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
+  c.speed = 0, c.commandVx = 0;
+  EXPECT_EQ(keys(a.decide(2, c)), "");    // at rest ...
+  EXPECT_EQ(keys(a.decide(50, c)), "");   // ... settled
+  EXPECT_EQ(keys(a.decide(100, c)), "down D;");  // facing left of +X: turn right
+  c.yaw = 0.01, c.commandWz = -0.1;
+  EXPECT_EQ(keys(a.decide(110, c)), "up D;");
+  c.commandWz = 0;
+  EXPECT_EQ(keys(a.decide(200, c)), "");         // facing +X: on to the side step
+  EXPECT_EQ(keys(a.decide(201, c)), "down Q;");  // 0.2 m right of where it should be: step left
+  c.y = 0.0, c.commandVy = 0.1;
+  EXPECT_EQ(keys(a.decide(230, c)), "up Q;");
+  c.commandVy = 0;
+  EXPECT_EQ(keys(a.decide(300, c)), "");  // lined up: the approach starts (nothing held)
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Approach);
+  EXPECT_EQ(keys(a.decide(301, c)), "down W;");  // 0.45 m short of 0.30 m from the ball: a short step
+  EXPECT_EQ(keys(a.decide(316, c)), "up W;");
+  c.ballAhead = 0.32;
+  EXPECT_EQ(keys(a.decide(400, c)), "tap 5;");  // close enough: the one-leg stand
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Balance);
+  EXPECT_EQ(keys(a.decide(600, c)), "tap 6;");
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Kick);
+}
+
+TEST(Autopilot, AfterARespawnItReleasesEveryKeyAndWalksOn) {
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.ceilingAhead = 1.0;
+  a.decide(1, c);
+  c.pelvisHeight = 0.3;
+  EXPECT_EQ(keys(a.decide(2, c)), "tap 9;down W;");  // crawling, W held
+  c = {};
+  c.respawns = 1;
+  EXPECT_EQ(keys(a.decide(3, c)), "up W;tap 0;down W;");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Walk);
 }
