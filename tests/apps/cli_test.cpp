@@ -99,6 +99,30 @@ TEST(Cli, WalkingWithWHeldKeepsToTheLineItStartedOn) {
   EXPECT_LT(std::abs(y), 0.6);  // and stayed near y = 0
 }
 
+TEST(Cli, TheShippedScriptWinsTheMarioCourse) {
+  // levels/mario/win.keys: the keys the autopilot pressed at seed 1; every stage in order, the ball in the goal
+  const CliRun r = run("play levels/mario --keys win.keys --expect win");
+  EXPECT_EQ(r.code, 0) << r.out;
+  for (const char* stage : {"walk->run at", "walk->stairs at", "walk->prone at", "prone->crawl at", "crawl->standup at",
+                            "one_leg->kick at", "won: the ball is in the goal"})
+    EXPECT_NE(r.out.find(stage), std::string::npos) << stage << "\n" << r.out;
+}
+
+TEST(Cli, TheAutopilotWinsTheMarioCourseAtSeedOne) {
+  // from cues alone (rays in the side layer, the ghost's distance, the ball, its own pose); seeds 1-10: README
+  const CliRun r = run("play levels/mario --autopilot --seed 1 --expect win");
+  EXPECT_EQ(r.code, 0) << r.out;
+}
+
+TEST(Cli, TheCommittedMarioReplayVerifies) {
+  // levels/mario/win.replay, recorded from win.keys: tick for tick the same run. If a model, the level or the
+  // robot changed, replay says which (record it again: play levels/mario --keys win.keys --record ...); if the
+  // code changed the run, it names the first tick that differs
+  const CliRun r = run("replay levels/mario/win.replay --verify");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("identical: 263 state hashes over 13160 ticks match"), std::string::npos) << r.out;
+}
+
 TEST(Cli, KeySixKicksTheBallIntoTheGoalFromAStandingStart) {
   // levels/penalty: the ball where the kick's card puts it, a goal 4.7 m beyond; the learned kick scores
   const CliRun r = run("play levels/penalty --keys kick.keys --expect win");
