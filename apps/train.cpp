@@ -125,8 +125,8 @@ int runTrain(const TrainOptions& o) {
 
   ai::SkillEnvOptions envOptions{envs, o.threads, true};
   std::shared_ptr<ai::LoadedPolicy> handoverPolicy;
-  if (skill.handover > 0) {  // episodes that start under the parent's shipped model
-    const robot::SkillDef* parent = l.tree.find(skill.parent);
+  if (skill.handover > 0) {  // episodes that start under the parent's (or handover_from's) shipped model
+    const robot::SkillDef* parent = l.tree.find(skill.handoverFrom.empty() ? skill.parent : skill.handoverFrom);
     const std::string path = modelsDir + "/" + parent->model;
     if (!std::filesystem::exists(path))
       throw engine::Error(path + ": the parent skill '" + parent->name + "' has no model yet (handover episodes start under it): train " +

@@ -325,7 +325,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.randomisation.pushSpeed = r.range(*d, "push_speed", {0, 0}, 0, 5, where + ".randomisation");
     }
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
-      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s"}, where + ".training");
+      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from"}, where + ".training");
       if (const toml::node* op = tr->get("only_positive_rewards")) {
         auto b = op->value<bool>();
         if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
@@ -335,6 +335,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.trainingEnvs = int(r.number(*tr, "envs", 20, 1, 1024, where + ".training"));
       s.handover = r.number(*tr, "handover", 0, 0, 1, where + ".training");
       s.handoverSeconds = r.range(*tr, "handover_s", {1.0, 3.0}, 0.01, 60, where + ".training");
+      if (const toml::node* hf = tr->get("handover_from")) {
+        const std::optional<std::string> name = hf->value<std::string>();
+        if (!name) throw Error(located(path, r.line(*hf), where + ".training.handover_from must be a skill name"));
+        s.handoverFrom = *name;
+      }
       if (s.handover > 0 && s.parent.empty())
         throw Error(located(path, r.line(*tr->get("handover")), where + ".training.handover needs a parent skill"));
     }
@@ -517,6 +522,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                                         "by routing through it, may go without one)"));
   }
   if (roots != 1) throw Error(located(path, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
+  // handover_from names an ancestor (checked once the parents are known to reach the root, below)
   // every chain of parents must reach the root (no cycles)
   for (const SkillDef& s : tree.skills) {
     const SkillDef* at = &s;
@@ -525,6 +531,15 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         throw Error(located(path, s.line, "skill." + s.name + ": its parents form a cycle and never reach the root"));
       at = tree.find(at->parent);
     }
+  }
+  for (const SkillDef& s : tree.skills) {
+    if (s.handoverFrom.empty()) continue;
+    bool ancestor = false;
+    for (const SkillDef* at = tree.find(s.parent); at && !ancestor; at = at->parent.empty() ? nullptr : tree.find(at->parent))
+      ancestor = at->name == s.handoverFrom;
+    if (!ancestor)
+      throw Error(located(path, s.line, "skill." + s.name + ": training.handover_from = '" + s.handoverFrom +
+                                        "' is not one of its ancestors"));
   }
   // a branch inherits the controller tables it does not write (gains, action_scale, action_filter, termination,
   // randomisation) from its parent: resolve from the root down

@@ -238,6 +238,9 @@ struct SkillDef {
   /// switched into
   double handover = 0;
   Range handoverSeconds{1.0, 3.0};
+  /// the ancestor whose policy drives a handover episode (default: the parent): the kick from the walk, as the
+  /// autopilot hands it over in play (walk -> one_leg -> kick, the one-leg stand only passing through)
+  std::string handoverFrom;
   CardDef card;
   TerrainDef terrain;
   CurriculumDef curriculum;

@@ -202,7 +202,10 @@ bool SkillEnv::handOver(Env& e) {
     if (t >= drive) {
       if (!waits) break;
       target = robot::switchBrakeTarget(p, skill_, target);
-      if (robot::readyForSwitch(p, skill_, target, command, e.sensors) || t - drive >= robot::maxSwitchWaitTicks(skill_)) break;
+      // (and, as in play, a key-pose skill takes over only once the robot stands settled: robot::postureAllowsSwitch)
+      if ((robot::readyForSwitch(p, skill_, target, command, e.sensors) && robot::postureAllowsSwitch(p, skill_, e.sensors)) ||
+          t - drive >= robot::maxSwitchWaitTicks(skill_))
+        break;
     }
     engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,
                                 &command.wz);

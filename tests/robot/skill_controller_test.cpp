@@ -258,6 +258,15 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string rootHandover = walk + "[skill.walk.training]\nhandover = 0.5\n";  // the root has no parent
   EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
       << errorOf(rootHandover);
+  const std::string branch = walk + "[skill.a]\nparent = \"walk\"\nkey = 1\n[skill.a.rewards]\nlive = 1\n";
+  const std::string notAncestor = branch + "[skill.b]\nparent = \"walk\"\nkey = 2\n[skill.b.rewards]\nlive = 1\n"
+                                           "[skill.b.training]\nhandover = 0.5\nhandover_from = \"a\"\n";  // a sibling
+  EXPECT_NE(errorOf(notAncestor).find("t.toml:24: skill.b: training.handover_from = 'a' is not one of its ancestors"),
+            std::string::npos)
+      << errorOf(notAncestor);
+  const std::string grandparent = branch + "[skill.c]\nparent = \"a\"\nkey = 2\n[skill.c.rewards]\nlive = 1\n"
+                                           "[skill.c.training]\nhandover = 0.5\nhandover_from = \"walk\"\n";
+  EXPECT_EQ(errorOf(grandparent), "");
   // keyframes: times must increase, keys need an offset, and only a keyframes prior takes keys
   const std::string backwards = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nkeys = [\n  { t = 1.0, offset = { knee = 1 } },\n"
                                        "  { t = 0.5, offset = { knee = 0 } },\n]\n";
