@@ -34,6 +34,7 @@ struct TrainOptions {
   int evalEpisodes = 10;  ///< episodes of each training evaluation (the card's own count is for `eval`)
   double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
   double initLogStd = std::nan("");  ///< branch init: set every log-std entry to this (less or more exploration)
+  bool freezeNormalizer = false;  ///< keep the loaded observation statistics
   int criticWarmup = 0;  ///< iterations that update the critic only (a branch's inherited critic learns first)
   bool zeroOutput = false;  ///< branch init: the actor's output layer starts at zero (the branch begins as its prior)
   std::string initFrom;   ///< start from this policy file (PolicyState) instead of fresh weights or the parent

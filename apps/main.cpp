@@ -330,6 +330,7 @@ int main(int argc, char** argv) {
   trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd, "Branch init: raise the inherited log-std to at least this");
   trainCmd->add_option("--init-log-std", train.initLogStd, "Branch init: set the log-std to this (e.g. -2: less exploration noise around a precise prior)")->check(CLI::Range(-5.0, 1.0));
   trainCmd->add_option("--critic-warmup", train.criticWarmup, "Iterations at the start that update only the critic (a branch's inherited critic learns the branch's rewards before its advantages move the actor)")->check(CLI::Range(0, 100000));
+  trainCmd->add_flag("--freeze-normalizer", train.freezeNormalizer, "Keep the observation normaliser's statistics as loaded (fine-tuning on new states without moving the policy's inputs)");
   trainCmd->add_flag("--zero-output", train.zeroOutput, "Branch init: zero the actor's output layer, so the branch starts as its own prior alone (hidden layers, critic, normaliser and log-std stay the parent's)");
   trainCmd->add_option("--init-from", train.initFrom, "Start from this policy file (e.g. assets/skills/walk.policy.bin) to fine-tune");
   trainCmd->add_option("--learning-rate", train.learningRate, "Initial learning rate instead of [ppo]'s (e.g. 1e-4 to fine-tune with --init-from)");

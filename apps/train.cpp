@@ -146,6 +146,7 @@ int runTrain(const TrainOptions& o) {
   options.evalEvery = std::max(1, o.evalEvery);
   options.updateThreads = o.threads;
   options.criticWarmupIterations = o.criticWarmup;
+  options.freezeNormalizer = o.freezeNormalizer;
   CardDrivers drivers;
   if (skill.card.kind != robot::CardDef::Kind::None && o.evalEvery > 0) {
     drivers = loadCardDrivers(l, modelsDir);

@@ -115,7 +115,7 @@ void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
     // batched inference: one forward of actor and critic for all environments
     const Clock::time_point t0 = Clock::now();
     requireFinite(obs_, "observation", iteration_, t);
-    if (config_.normalizeObservations) policy_.normalizer.update(obs_);
+    if (config_.normalizeObservations && !options_.freezeNormalizer) policy_.normalizer.update(obs_);
     policy_.normalizer.normalize(obs_, &normObs_);
     mlpForward(policy_.actor, normObs_, &mean_);
     mlpForward(policy_.critic, normObs_, &values_);

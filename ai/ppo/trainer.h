@@ -55,6 +55,9 @@ struct TrainerOptions {
   int updateThreads = 1;
   /// The first this many iterations of the run update the critic only (PpoUpdater::setActorFrozen).
   int criticWarmupIterations = 0;
+  /// Keep the observation normaliser's statistics as loaded (a fine-tune on new states: the kick taking the walk's
+  /// stopped robot moved a 1e5-count normaliser within 3 iterations and the deterministic policy no longer kicked).
+  bool freezeNormalizer = false;
 };
 
 class Trainer {

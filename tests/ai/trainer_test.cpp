@@ -287,6 +287,27 @@ TEST(Trainer, CriticWarmupMovesOnlyTheCriticThenTheActorLearns) {
   EXPECT_FALSE(plain.policy().actor.W[0] == start.actor.W[0]);
 }
 
+TEST(Trainer, AFrozenNormalizerKeepsTheLoadedStatisticsWhileTheActorLearns) {
+  PendulumEnv env(16);
+  TrainerOptions options = shortRun(freshDir("frozen"));
+  options.totalSteps = 2 * 3200;
+  options.evaluate = nullptr;
+  options.freezeNormalizer = true;
+  Trainer trainer(env, pendulumConfig(), options);
+  const PolicyState start = trainer.policy();
+  trainer.run();
+  EXPECT_TRUE(trainer.policy().normalizer.mean() == start.normalizer.mean());
+  EXPECT_TRUE(trainer.policy().normalizer.variance() == start.normalizer.variance());
+  EXPECT_FALSE(trainer.policy().actor.W[0] == start.actor.W[0]);
+  // unfrozen, the same run moves the statistics toward the pendulum's states
+  PendulumEnv env2(16);
+  options.freezeNormalizer = false;
+  options.runDir = freshDir("frozen_not");
+  Trainer plain(env2, pendulumConfig(), options);
+  plain.run();
+  EXPECT_FALSE(plain.policy().normalizer.mean() == start.normalizer.mean());
+}
+
 TEST(Trainer, NonFiniteValueStopsWithTrainingDivergedAndDumpsState) {
   const std::string dir = freshDir("nan");
   PendulumEnv env(16);
