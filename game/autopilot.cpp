@@ -109,49 +109,46 @@ void Autopilot::enter(int64_t tick, Mode m, char skillKey, bool forward, std::ve
   alignStep_ = 0, alignTries_ = 0, keyUpTick_ = -1;
 }
 
-// one key at a time (the interlock): released early enough that the ramp down stops the motion near the target
+// one key at a time (the interlock): pressed toward the target, released early enough that the command's ramp
+// down (rate `ramp`, the command now `command`) stops the motion within half the tolerance of it
+void Autopilot::nudge(int64_t tick, double error, double command, double ramp, double tolerance, char plus, char minus,
+                      std::vector<engine::KeyEvent>* out) {
+  if (held_.empty()) {
+    hold(tick, error > 0 ? plus : minus, true, out);
+    ++alignTries_;
+    keyUpTick_ = -1;
+  } else if (std::abs(error) < command * command / (2 * ramp) + 0.5 * tolerance) {
+    releaseAll(tick, out);
+    keyUpTick_ = tick;
+  }
+}
+
 bool Autopilot::align(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out) {
   const bool still = c.speed < kRestSpeed && c.commandVx == 0 && c.commandVy == 0 && c.commandWz == 0;
   const bool settled = still && keyUpTick_ >= 0 && tick - keyUpTick_ >= kSettleTicks;
   const double yawError = wrap(-c.yaw), yError = alignY_ - c.y;
-  switch (alignStep_) {
-    case 0:  // stop
-      if (still) keyUpTick_ = keyUpTick_ < 0 ? tick : keyUpTick_;
-      if (settled) alignStep_ = 1, alignTries_ = 0;
-      return false;
-    case 1:  // turn toward +X
-      if (held_.empty()) {
-        if (!settled) return false;
-        if (std::abs(yawError) < alignYawTol_ || alignTries_ >= kAlignTries) {
-          alignStep_ = 2;
-          return false;
-        }
-        hold(tick, yawError > 0 ? 'A' : 'D', true, out);
-        ++alignTries_;
-        keyUpTick_ = -1;
-      } else if (std::abs(yawError) < c.commandWz * c.commandWz / (2 * kTurnRamp) + 0.5 * alignYawTol_) {
-        releaseAll(tick, out);
-        keyUpTick_ = tick;
-      }
-      return false;
-    default:  // step sideways to the line
-      if (held_.empty()) {
-        if (!settled) return false;
-        if (alignTries_ >= 2 * kAlignTries) return true;
-        if (std::abs(yError) < alignYTol_) {
-          if (std::abs(yawError) < alignYawTol_) return true;
-          alignStep_ = 1;  // the side steps turned it: face +X again
-          return false;
-        }
-        hold(tick, yError > 0 ? 'Q' : 'E', true, out);
-        ++alignTries_;
-        keyUpTick_ = -1;
-      } else if (std::abs(yError) < c.commandVy * c.commandVy / (2 * kKeyRamp) + 0.5 * alignYTol_) {
-        releaseAll(tick, out);
-        keyUpTick_ = tick;
-      }
-      return false;
+  if (alignStep_ == 0) {  // stop
+    if (still) keyUpTick_ = keyUpTick_ < 0 ? tick : keyUpTick_;
+    if (settled) alignStep_ = 1, alignTries_ = 0;
+    return false;
   }
+  if (held_.empty() && !settled) return false;
+  if (alignStep_ == 1) {  // turn toward +X
+    if (held_.empty() && (std::abs(yawError) < alignYawTol_ || alignTries_ >= kAlignTries)) alignStep_ = 2;
+    else nudge(tick, yawError, c.commandWz, kTurnRamp, alignYawTol_, 'A', 'D', out);
+    return false;
+  }
+  // step sideways to the line
+  if (held_.empty()) {
+    if (alignTries_ >= 2 * kAlignTries) return true;
+    if (std::abs(yError) < alignYTol_) {
+      if (std::abs(yawError) < alignYawTol_) return true;
+      alignStep_ = 1;  // the side steps turned it: face +X again
+      return false;
+    }
+  }
+  nudge(tick, yError, c.commandVy, kKeyRamp, alignYTol_, 'Q', 'E', out);
+  return false;
 }
 
 bool Autopilot::approach(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out) {

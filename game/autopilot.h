@@ -65,6 +65,8 @@ class Autopilot {
   void releaseAll(int64_t tick, std::vector<engine::KeyEvent>* out);
   /// Align mode: stop, turn to yaw 0, step sideways to alignY_; true once within the tolerances.
   bool align(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
+  void nudge(int64_t tick, double error, double command, double ramp, double tolerance, char plus, char minus,
+             std::vector<engine::KeyEvent>* out);
   /// Approach mode: short steps forward (W) or back (S) until the ball is kBallKick ahead; true once there.
   bool approach(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
 
