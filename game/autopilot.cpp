@@ -55,10 +55,13 @@ Cues senseCues(const Session& s) {
                   plane.rayCast({p.x() + 0.15, ground + 1.2}, {p.x() + 0.15, ground + 2.0}).hit;
   if (const Course* course = s.course()) {
     c.ghost = course->ghostDistance();
-    if (course->firstBall() >= 0) c.ballAhead = s.physics().ballState(course->firstBall()).position.x() - p.x();
+    if (course->firstBall() >= 0) {
+      const Eigen::Vector3d ball = s.physics().ballState(course->firstBall()).position;
+      c.ballAhead = ball.x() - p.x();
+      c.ballY = ball.y();
+    }
     const auto& ev = course->events();
     c.boxJustHit = !ev.empty() && ev.back().tick + 1 >= s.tick() && ev.back().what.find("question box") != std::string::npos;
-    if (course->firstBall() >= 0) c.ballY = s.physics().ballState(course->firstBall()).position.y();
   }
   c.y = p.y();
   c.yaw = s.sensors().yaw;
@@ -93,7 +96,6 @@ void Autopilot::hold(int64_t tick, char key, bool down, std::vector<engine::KeyE
   out->push_back({tick, down ? engine::KeyAction::kDown : engine::KeyAction::kUp, key});
   if (down) held_ += key;
   else held_.erase(at, 1);
-  if (key == 'W') forwardHeld_ = down;
 }
 
 void Autopilot::releaseAll(int64_t tick, std::vector<engine::KeyEvent>* out) {

@@ -71,7 +71,7 @@ class Autopilot {
   bool approach(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
 
   Mode mode_ = Mode::Walk;
-  bool started_ = false, forwardHeld_ = false;
+  bool started_ = false;
   std::string held_;          // movement keys held now (W S A D Q E)
   int respawnsSeen_ = 0;
   // Align / Approach: the target, the tolerances, the step (stop, turn, side) and when the last key went up

@@ -127,13 +127,12 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
       else plane.setPosition(g.body, start);
       log(tick, "a ghost appears " + std::to_string(g.def.behind).substr(0, 4) + " m behind");
     }
-    if (!g.awake) {
-      if (g.body >= 0) {  // asleep again after a respawn: out of the way of the autopilot's ray casts
-        plane.setVelocity(g.body, Eigen::Vector2d::Zero());
-        plane.setPosition(g.body, {-1000.0, g.def.height});
-      }
-      continue;
+    if (g.park) {  // asleep again after a respawn: still, and out of the way of the autopilot's ray casts
+      g.park = false;
+      plane.setVelocity(g.body, Eigen::Vector2d::Zero());
+      plane.setPosition(g.body, {-1000.0, g.def.height});
     }
+    if (!g.awake) continue;
     if (pelvis.x() >= g.def.vanishX) {
       g.gone = true;
       plane.setVelocity(g.body, Eigen::Vector2d::Zero());
@@ -179,7 +178,7 @@ bool Course::onFall(int64_t tick) {
   // robot passes its appear_x again (before, a respawn at the start put the robot under the chasing ghost)
   for (Ghost& g : ghosts_)
     if (g.awake && !g.gone && g.def.appearX >= checkpointX_) {
-      g.awake = false;
+      g.awake = false, g.park = true;
       g.speed = g.def.speed;
     }
   return true;

@@ -81,6 +81,7 @@ class Course {
     int body = -1;        // PlaneWorld kinematic circle, once awake
     bool awake = false, gone = false;
     double speed = 0;
+    bool park = false;    // put to sleep by a fall: move the body out of the way at the next update
   };
   struct Ball {
     engine::BallId id = -1;

@@ -45,9 +45,7 @@ Session::Session(const levels::Level& level, const robot::RobotModel& model, con
   // the robot at the spawn point, joints jittered around the default pose by the seed
   robot_ = std::make_unique<robot::Robot>(model, physics_, level.spawn.x(), level.spawn.y(), level.spawnYaw);
   registry_.add(registry_.create(), RobotTag{kRobotColour});
-  robot::JointArray q = robot_->command().target;
-  for (double& v : q) v += kInitialJitter * (2.0 * unit(rng_) - 1.0);
-  robot_->teleport(physics_, robot_->linkPose(physics_, -1), q);
+  robot_->teleport(physics_, robot_->linkPose(physics_, -1), jitteredStandingPose());
   sensors_ = robot_->sense(physics_);
   if (level.isGame()) course_ = std::make_unique<Course>(level, physics_, plane_);
 }
@@ -75,6 +73,12 @@ std::vector<BodyPoint> Session::bodyPoints() const {
   return points;
 }
 
+robot::JointArray Session::jitteredStandingPose() {
+  robot::JointArray q = robot::Robot::standingCommand(model_).target;
+  for (double& v : q) v += kInitialJitter * (2.0 * unit(rng_) - 1.0);
+  return q;
+}
+
 void Session::respawn(double x) {
   // upright, facing +X, feet on the ground in the default pose, at rest: the root skill (walk) takes the robot as
   // at a level's start and the velocity commands start from 0 (held keys ramp them up again; a request for another
@@ -85,9 +89,7 @@ void Session::respawn(double x) {
   // the joints jittered as at the start, by the seed's generator going on: a retry is a new attempt at the stage
   // (the same pose every time replayed the same fall forever: levels/mario's autopilot fell 10 times in a row at
   // the tunnel, tick for tick alike), and the run stays a function of the seed and the keys
-  robot::JointArray q = robot::Robot::standingCommand(model_).target;
-  for (double& v : q) v += kInitialJitter * (2.0 * unit(rng_) - 1.0);
-  robot_->teleport(physics_, base, q);
+  robot_->teleport(physics_, base, jitteredStandingPose());
   action_.fill(0.0f);
   phase_ = robot::PhaseClock{};
   sensors_ = robot_->sense(physics_);

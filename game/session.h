@@ -123,6 +123,8 @@ class Session {
   void switchTo(const SkillRuntime* next);
   void holdHeading(robot::SkillCommand* command);
   void respawn(double x);
+  /// The default pose with every joint jittered by kInitialJitter from the seed's generator (the start, a respawn).
+  robot::JointArray jitteredStandingPose();
 
   const levels::Level& level_;
   const robot::RobotModel& model_;

@@ -522,22 +522,17 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                                         "by routing through it, may go without one)"));
   }
   if (roots != 1) throw Error(located(path, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
-  // handover_from names an ancestor (checked once the parents are known to reach the root, below)
-  // every chain of parents must reach the root (no cycles)
+  // every chain of parents must reach the root (no cycles), and handover_from names a skill on it
   for (const SkillDef& s : tree.skills) {
     const SkillDef* at = &s;
+    bool handoverFromAncestor = false;
     for (size_t hops = 0; !at->parent.empty(); ++hops) {
       if (hops > tree.skills.size())
         throw Error(located(path, s.line, "skill." + s.name + ": its parents form a cycle and never reach the root"));
       at = tree.find(at->parent);
+      handoverFromAncestor = handoverFromAncestor || at->name == s.handoverFrom;
     }
-  }
-  for (const SkillDef& s : tree.skills) {
-    if (s.handoverFrom.empty()) continue;
-    bool ancestor = false;
-    for (const SkillDef* at = tree.find(s.parent); at && !ancestor; at = at->parent.empty() ? nullptr : tree.find(at->parent))
-      ancestor = at->name == s.handoverFrom;
-    if (!ancestor)
+    if (!s.handoverFrom.empty() && !handoverFromAncestor)
       throw Error(located(path, s.line, "skill." + s.name + ": training.handover_from = '" + s.handoverFrom +
                                         "' is not one of its ancestors"));
   }
