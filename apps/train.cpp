@@ -67,8 +67,19 @@ ai::DrivingSkill drivingSkill(const Loaded& l, const std::string& name, const st
 // skill (it takes over once the robot stands); none for the other kinds
 struct CardDrivers {
   ai::DrivingSkill before, after;
+  std::vector<ai::HandoverStage> leadIn;  // a lead_in card: handover_from (or the parent), then the skills between
 };
 CardDrivers loadCardDrivers(const Loaded& l, const std::string& modelsDir) {
+  if (l.skill->card.leadIn) {
+    CardDrivers d;
+    const std::string from = l.skill->handoverFrom.empty() ? l.skill->parent : l.skill->handoverFrom;
+    for (const robot::SkillDef* at = l.tree.find(l.skill->parent);; at = l.tree.find(at->parent)) {
+      const ai::DrivingSkill ds = drivingSkill(l, at->name, modelsDir, "its card starts as play enters the skill");
+      d.leadIn.insert(d.leadIn.begin(), ai::HandoverStage{ds.def, ds.policy});
+      if (at->name == from) break;
+    }
+    return d;
+  }
   if (l.skill->card.kind == robot::CardDef::Kind::PushUp || l.skill->card.kind == robot::CardDef::Kind::Crawl)
     return {drivingSkill(l, l.skill->parent, modelsDir, "it lies down first"), {}};
   if (l.skill->card.kind != robot::CardDef::Kind::StandUp) return {};
@@ -81,7 +92,7 @@ ai::CardResult runCard(const Loaded& l, const ai::PolicyFn& act, const ai::CardR
   if (run.card.kind == robot::CardDef::Kind::StandUp || run.card.kind == robot::CardDef::Kind::PushUp ||
       run.card.kind == robot::CardDef::Kind::Crawl)
     return ai::runGroundCard(l.model, *l.skill, act, run, drivers.before, drivers.after);
-  return ai::runVelocityCard(l.model, *l.skill, act, run);
+  return ai::runVelocityCard(l.model, *l.skill, act, run, drivers.leadIn);
 }
 
 std::string cardText(const ai::CardResult& card) {
@@ -136,6 +147,19 @@ int runTrain(const TrainOptions& o) {
     envOptions.parentPolicy = [handoverPolicy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { handoverPolicy->act(obs, act); };
     std::printf("handover episodes: %.0f %% start under '%s' (%s) for %.1f-%.1f s\n", 100 * skill.handover,
                 parent->name.c_str(), path.c_str(), skill.handoverSeconds.lo, skill.handoverSeconds.hi);
+    // the skills between handover_from and this one, which a routed request passes through in play
+    std::vector<const robot::SkillDef*> via;
+    for (const robot::SkillDef* at = l.tree.find(skill.parent); at != parent; at = l.tree.find(at->parent)) via.insert(via.begin(), at);
+    for (const robot::SkillDef* v : via) {
+      const std::string vpath = modelsDir + "/" + v->model;
+      if (!std::filesystem::exists(vpath))
+        throw engine::Error(vpath + ": the skill '" + v->name + "' has no model yet (handover episodes route through it): train " +
+                            v->name + " first");
+      auto policy = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(vpath));
+      envOptions.via.push_back({v, [policy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); }});
+      std::printf("  then '%s' (%s) for %.1f-%.1f s at a zero command\n", v->name.c_str(), vpath.c_str(),
+                  skill.handoverViaSeconds.lo, skill.handoverViaSeconds.hi);
+    }
   }
   ai::SkillEnv env(l.model, skill, l.tree.path, envOptions);
   ai::TrainerOptions options;
@@ -303,12 +327,25 @@ int runEval(const EvalOptions& o) {
                   "tunnel %g m wide, its ceiling %g m up (model %s, hash %s)\n", o.skill.c_str(), run.card.episodes,
                   l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi, o.skill.c_str(), def.vx.lo, def.vx.hi,
                   l.skill->terrain.width, l.skill->terrain.ceilingHeight, onnxPath.c_str(), hash.c_str());
-  else
-    std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
-                  o.skill.c_str(), run.card.episodes, def.episodeSeconds, def.pushes ? "on" : "off", def.segmentSeconds,
-                  def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
+  else {
+    std::string leadIn;  // "walk 1-3 s, to rest, one_leg 0-2 s, then " for a lead_in card
+    if (def.leadIn) {
+      char b[160];
+      const std::string from = l.skill->handoverFrom.empty() ? l.skill->parent : l.skill->handoverFrom;
+      std::snprintf(b, sizeof b, "each entered as in play: %s %g-%g s", from.c_str(), l.skill->handoverSeconds.lo, l.skill->handoverSeconds.hi);
+      leadIn = b;
+      for (const robot::SkillDef* at = l.tree.find(l.skill->parent); at->name != from; at = l.tree.find(at->parent)) {
+        std::snprintf(b, sizeof b, ", %s %g-%g s", at->name.c_str(), l.skill->handoverViaSeconds.lo, l.skill->handoverViaSeconds.hi);
+        leadIn += b;
+      }
+      leadIn = " (" + leadIn + ", then " + o.skill + ")";
+    }
+    std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s%s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
+                  o.skill.c_str(), run.card.episodes, def.episodeSeconds, leadIn.c_str(), def.pushes ? "on" : "off",
+                  def.segmentSeconds, def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
                                        std::to_string(int(def.standSeconds)) + " s").c_str() : "",
                   onnxPath.c_str(), hash.c_str());
+  }
   std::fputs(head, stdout);
   std::fflush(stdout);
   const ai::CardResult r = runCard(l, act, run, loadCardDrivers(l, l.tree.directory));

@@ -325,7 +325,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.randomisation.pushSpeed = r.range(*d, "push_speed", {0, 0}, 0, 5, where + ".randomisation");
     }
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
-      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from"}, where + ".training");
+      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx"}, where + ".training");
       if (const toml::node* op = tr->get("only_positive_rewards")) {
         auto b = op->value<bool>();
         if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
@@ -335,11 +335,16 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.trainingEnvs = int(r.number(*tr, "envs", 20, 1, 1024, where + ".training"));
       s.handover = r.number(*tr, "handover", 0, 0, 1, where + ".training");
       s.handoverSeconds = r.range(*tr, "handover_s", {1.0, 3.0}, 0.01, 60, where + ".training");
+      s.handoverViaSeconds = r.range(*tr, "handover_via_s", {0.0, 0.0}, 0.0, 60, where + ".training");
+      s.handoverVx = r.range(*tr, "handover_vx", {0.0, 0.0}, -10, 10, where + ".training");
       if (const toml::node* hf = tr->get("handover_from")) {
         const std::optional<std::string> name = hf->value<std::string>();
         if (!name) throw Error(located(path, r.line(*hf), where + ".training.handover_from must be a skill name"));
         s.handoverFrom = *name;
       }
+      if (const toml::node* hv = tr->get("handover_via_s"); hv && (s.handoverFrom.empty() || s.handoverFrom == s.parent))
+        throw Error(located(path, r.line(*hv), where + ".training.handover_via_s is the time in the skills between handover_from "
+                                               "and this one, and there are none (handover_from is the parent)"));
       if (s.handover > 0 && s.parent.empty())
         throw Error(located(path, r.line(*tr->get("handover")), where + ".training.handover needs a parent skill"));
     }
@@ -429,7 +434,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                       "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
                       "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
                       "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg", "push_every_s",
-                      "lie_s", "rise_s", "after_s", "push_ups", "rise", "crawl_distance", "crawl_speed"}, w);
+                      "lie_s", "rise_s", "after_s", "push_ups", "rise", "crawl_distance", "crawl_speed", "lead_in"}, w);
       const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
       if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick" &&
           type != "prone" && type != "standup" && type != "pushup" && type != "crawl")
@@ -451,6 +456,15 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         throw Error(located(path, r.line(*c), w + ": a " + type + " card needs the skill's parent (it lies down first)"));
       if (d.kind == CardDef::Kind::Crawl && s.terrain.kind != TerrainDef::Kind::Ceiling)
         throw Error(located(path, r.line(*c), w + ": a crawl card runs in a tunnel: the skill needs [terrain] type = \"ceiling\""));
+      if (const toml::node* li = c->get("lead_in")) {
+        const auto b = li->is_boolean() ? li->value<bool>() : std::nullopt;  // (not 1 or 0)
+        if (!b) throw Error(located(path, r.line(*li), w + ".lead_in must be true or false"));
+        if (*b && (s.parent.empty() || (d.kind != CardDef::Kind::Velocity && d.kind != CardDef::Kind::Height &&
+                                        d.kind != CardDef::Kind::Balance && d.kind != CardDef::Kind::Jump &&
+                                        d.kind != CardDef::Kind::Kick)))
+          throw Error(located(path, r.line(*li), w + ".lead_in: only a branch's velocity, height, balance, jump or kick card starts with a lead-in"));
+        d.leadIn = *b;
+      }
       d.crawlDistance = r.number(*c, "crawl_distance", 5, 0.1, 100, w);
       d.crawlSpeed = r.number(*c, "crawl_speed", 0.25, 0.01, 10, w);
       d.pushUps = int(r.number(*c, "push_ups", 3, 1, 1000, w));

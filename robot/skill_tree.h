@@ -209,6 +209,11 @@ struct CardDef {
   double pushUpRise = 0.08;     ///< ... each a rise of the torso link's origin this high, trough to crest [m]
   double crawlDistance = 5.0;   ///< Crawl: this far along the tunnel [m] ...
   double crawlSpeed = 0.25;     ///< ... at this mean speed at least [m/s]
+  /// Velocity-type cards (kick, ...): each episode starts as the skill's training handover episodes do (from
+  /// training.handover_from or the parent, through the skills in between, handover_s / handover_via_s /
+  /// handover_vx), that is as play enters the skill, rather than from the spawn stance; a lead-in that falls
+  /// is drawn again (up to 5 times, then the episode counts as a fall)
+  bool leadIn = false;
 };
 
 /// One skill of the tree.
@@ -239,8 +244,14 @@ struct SkillDef {
   double handover = 0;
   Range handoverSeconds{1.0, 3.0};
   /// the ancestor whose policy drives a handover episode (default: the parent): the kick from the walk, as the
-  /// autopilot hands it over in play (walk -> one_leg -> kick, the one-leg stand only passing through)
+  /// autopilot hands it over in play. The episode then routes as play does: each skill between handover_from and
+  /// this one (walk -> one_leg -> kick: the one-leg stand) takes over in turn and runs handoverViaSeconds at a
+  /// zero command before the next switch (0: on as soon as the switch is allowed, as a routed key request)
   std::string handoverFrom;
+  Range handoverViaSeconds{0.0, 0.0};
+  /// the parent's drive in a handover episode: forward at a speed drawn from this range (W held, as before the
+  /// run's key in play); {0, 0}: one random draw from the parent's command ranges
+  Range handoverVx{0.0, 0.0};
   CardDef card;
   TerrainDef terrain;
   CurriculumDef curriculum;

@@ -79,6 +79,10 @@ SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill,
     if (!options_.parent || !options_.parentPolicy)
       throw engine::Error("skill '" + skill_.name + "' trains handover episodes: the environment needs its parent's policy");
     parent_ = *options_.parent;
+    for (const HandoverStage& v : options_.via) via_.push_back(*v.skill);
+    fadeFrom_ = via_.empty() ? parent_ : via_.back();
+    route_.push_back({&parent_, options_.parentPolicy});
+    for (size_t k = 0; k < via_.size(); ++k) route_.push_back({&via_[k], options_.via[k].policy});
   }
   for (int i = 0; i < options.numEnvs; ++i) {
     envs_.push_back(std::make_unique<Env>());
@@ -161,8 +165,9 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.phase = robot::PhaseClock{};
   e.action.fill(0.0f);
   e.fadeTicks = 0;
+  robot::SkillCommand handedOver;  // the keys' command at the switch (zero for an ordinary episode)
   if (allowHandover && skill_.handover > 0 && unit(e.rng) < skill_.handover) {
-    if (!handOver(e)) {
+    if (!handOver(e, &handedOver)) {
       resetEnv(e, false);  // the parent fell before the switch: an ordinary episode instead
       return;
     }
@@ -176,7 +181,10 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   if (e.ball >= 0) e.ballState = e.world->ballState(e.ball);
   e.tick = 0;
   e.episodeReturn = 0;
-  e.command = robot::SkillCommand{};  // every episode starts at amplitude 0
+  // every episode starts at amplitude 0; a ramped velocity command goes on from the handover's, as the keys' ramp
+  // does in play across a switch (W held from the walk into the run: from the walk's command up to the run's)
+  e.command = robot::SkillCommand{};
+  if (skill_.commands.ramp) e.command.vx = handedOver.vx, e.command.vy = handedOver.vy, e.command.wz = handedOver.wz;
   sampleCommand(e);
   if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
   const double pushEvery = r.pushEverySeconds;
@@ -185,51 +193,84 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
                        : INT32_MAX;
 }
 
-// The parent drives first, as in play before the skill's key: one command draw from the parent's ranges, ramped
-// at the keys' rates, for a random handover_s; then the switch the runtime makes (robot/skill_controller.h): a
-// still skill waits for rest while the parent's command ramps to zero, and the new skill starts with the parent's
-// filtered action, the gait phase carried over and the parent's prior fading out (a slower skill waits for its
-// top speed the same way: robot::switchWaits). Returns false if the parent fell.
-bool SkillEnv::handOver(Env& e) {
-  const robot::SkillDef& p = parent_;
+// a handover episode's start: runHandover along route_ (the parent, then the skills routed through)
+bool SkillEnv::handOver(Env& e, robot::SkillCommand* commandAtSwitch) {
+  HandoverEnd end;
+  end.action = e.action;
+  end.phase = e.phase;
+  if (!runHandover(model_, e.model, *e.world, *e.robot, &e.sensors, route_, skill_, e.rng, &end)) return false;
+  e.phase = end.phase;
+  e.action = end.action;
+  e.fadePhase = end.fadePhase;
+  e.fadeTicks = end.fadeTicks;
+  *commandAtSwitch = end.command;
+  return true;
+}
+
+bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actual, engine::PhysicsWorld& world,
+                 robot::Robot& robot, robot::Sensors* sensors, const std::vector<HandoverStage>& stages,
+                 const robot::SkillDef& skill, std::mt19937_64& rng, HandoverEnd* end) {
+  std::vector<const robot::SkillDef*> route;
+  for (const HandoverStage& st : stages) route.push_back(st.skill);
+  route.push_back(&skill);
+  const robot::SkillDef& driver = *route.front();
   robot::SkillCommand command, target;
-  drawVelocity(e.rng, p.commands, &target);
-  const int drive = std::max(1, int(std::lround(uniform(e.rng, skill_.handoverSeconds) / engine::kTickSeconds)));
-  const bool waits = robot::switchWaits(p, skill_);
+  if (skill.handoverVx.lo != 0 || skill.handoverVx.hi != 0) target.vx = uniform(rng, skill.handoverVx);  // W held
+  else drawVelocity(rng, driver.commands, &target);
+  int run = std::max(1, int(std::lround(uniform(rng, skill.handoverSeconds) / engine::kTickSeconds)));
   const engine::CommandLimits keys;
   Eigen::MatrixXf obs(robot::kObservationSize, 1), out;
-  for (int t = 0;; ++t) {
-    if (t >= drive) {
-      if (!waits) break;
-      target = robot::switchBrakeTarget(p, skill_, target);
-      // (and, as in play, a key-pose skill takes over only once the robot stands settled: robot::postureAllowsSwitch)
-      if ((robot::readyForSwitch(p, skill_, target, command, e.sensors) && robot::postureAllowsSwitch(p, skill_, e.sensors)) ||
-          t - drive >= robot::maxSwitchWaitTicks(skill_))
-        break;
+  robot::PhaseClock& phase = end->phase;
+  robot::PhaseClock fadePhase;
+  int fadeTicks = 0;
+  for (size_t k = 0; k + 1 < route.size(); ++k) {
+    const robot::SkillDef& p = *route[k];
+    const robot::SkillDef& next = *route[k + 1];
+    const bool waits = robot::switchWaits(p, next);
+    for (int t = 0;; ++t) {
+      if (t >= run) {
+        if (!waits) break;
+        target = robot::switchBrakeTarget(p, next, target);
+        if ((robot::readyForSwitch(p, next, target, command, *sensors) && robot::postureAllowsSwitch(p, next, *sensors)) ||
+            t - run >= robot::maxSwitchWaitTicks(next))
+          break;
+      }
+      engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,
+                                  &command.wz);
+      double s, c;
+      robot::phaseSignal(phase.tp, p.prior.halfPeriodTicks, &s, &c);
+      robot::Observation o;
+      robot::buildObservation(*sensors, nominal, end->action, command, s, c, &o);
+      for (int j = 0; j < robot::kObservationSize; ++j) obs(j, 0) = o[size_t(j)];
+      stages[k].policy(obs, &out);
+      robot::filterAction(p, out.data(), &end->action);
+      phase.advance(p.prior, command);
+      robot::PdCommand pd;
+      robot::skillPdCommand(actual, p, end->action, phase, command, &pd);
+      if (fadeTicks > 0) {  // the skill before this one fading out, as the runtime does
+        fadePhase.advance(route[k - 1]->prior, command);
+        robot::fadePrior(actual, *route[k - 1], fadePhase, p, phase, command, double(fadeTicks) / robot::kSwitchFadeTicks, &pd);
+        --fadeTicks;
+      }
+      robot.setCommand(pd);
+      for (int j = 0; j < game::kSubsteps; ++j) {
+        robot.applyPd(world);
+        world.step(game::kSubstepSeconds);
+      }
+      *sensors = robot.sense(world);
+      if (robot::hasFallen(p.termination, *sensors)) return false;
     }
-    engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,
-                                &command.wz);
-    double s, c;
-    robot::phaseSignal(e.phase.tp, p.prior.halfPeriodTicks, &s, &c);
-    robot::Observation o;
-    robot::buildObservation(e.sensors, model_, e.action, command, s, c, &o);
-    for (int k = 0; k < robot::kObservationSize; ++k) obs(k, 0) = o[size_t(k)];
-    options_.parentPolicy(obs, &out);
-    robot::filterAction(p, out.data(), &e.action);
-    e.phase.advance(p.prior, command);
-    robot::PdCommand pd;
-    robot::skillPdCommand(e.model, p, e.action, e.phase, command, &pd);
-    e.robot->setCommand(pd);
-    for (int k = 0; k < game::kSubsteps; ++k) {
-      e.robot->applyPd(*e.world);
-      e.world->step(game::kSubstepSeconds);
+    fadePhase = phase;
+    robot::carryPhase(p.prior, next.prior, &phase);
+    fadeTicks = robot::kSwitchFadeTicks;
+    if (k + 2 < route.size()) {  // next is a skill routed through: a zero command (its key, no movement key)
+      target = robot::SkillCommand{};
+      run = int(std::lround(uniform(rng, skill.handoverViaSeconds) / engine::kTickSeconds));
     }
-    e.sensors = e.robot->sense(*e.world);
-    if (robot::hasFallen(p.termination, e.sensors)) return false;
   }
-  e.fadePhase = e.phase;
-  robot::carryPhase(p.prior, skill_.prior, &e.phase);
-  e.fadeTicks = robot::kSwitchFadeTicks;
+  end->fadePhase = fadePhase;
+  end->fadeTicks = fadeTicks;
+  end->command = command;
   return true;
 }
 
@@ -280,8 +321,8 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     robot::PdCommand pd;
     robot::skillPdCommand(e.model, skill_, e.action, e.phase, e.command, &pd);
     if (e.fadeTicks > 0) {  // a handover episode's first 0.3 s: the parent's prior fades out as in play
-      e.fadePhase.advance(parent_.prior, e.command);
-      robot::fadePrior(e.model, parent_, e.fadePhase, skill_, e.phase, e.command,
+      e.fadePhase.advance(fadeFrom_.prior, e.command);
+      robot::fadePrior(e.model, fadeFrom_, e.fadePhase, skill_, e.phase, e.command,
                        double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
       --e.fadeTicks;
     }

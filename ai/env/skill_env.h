@@ -15,6 +15,34 @@
 
 namespace ai {
 
+/// A skill that drives part of an episode before the skill being trained or measured takes over, with its
+/// deterministic policy (observations x batch -> actions x batch; called from worker threads: thread-safe).
+struct HandoverStage {
+  const robot::SkillDef* skill = nullptr;
+  std::function<void(const Eigen::MatrixXf&, Eigen::MatrixXf*)> policy;
+};
+
+/// Where a handover leaves the skill taking over: its clock (the gait phase carried over), the filtered action it
+/// inherits, the previous skill's clock for the prior fade and the fade's ticks, and the keys' command at the switch.
+struct HandoverEnd {
+  robot::PhaseClock phase, fadePhase;
+  int fadeTicks = 0;
+  std::array<float, robot::kActionSize> action{};
+  robot::SkillCommand command;
+};
+
+/// One handover into `skill` as play makes it (training handover episodes, and cards that start that way):
+/// route[0] drives first, at `skill.handoverVx` held (or one random draw from its command ranges) for a random
+/// `skill.handoverSeconds`; then each switch the runtime makes (robot/skill_controller.h): a still skill waits for
+/// rest while the command ramps to zero and, into a key-pose skill, for a settled stand (robot::postureAllowsSwitch);
+/// the next skill starts with the filtered action, the phase carried over and the previous prior fading out. Each
+/// skill after route[0] runs `skill.handoverViaSeconds` at a zero command before the next switch. `nominal` is
+/// the model the observations use, `actual` the (randomised) one the PD targets use. `robot` starts as placed;
+/// `sensors` is updated. Returns false if the robot fell on the way.
+bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actual, engine::PhysicsWorld& world,
+                 robot::Robot& robot, robot::Sensors* sensors, const std::vector<HandoverStage>& route,
+                 const robot::SkillDef& skill, std::mt19937_64& rng, HandoverEnd* end);
+
 struct SkillEnvOptions {
   int numEnvs = 20;
   int threads = 2;
@@ -23,6 +51,9 @@ struct SkillEnvOptions {
   /// (observations x batch -> actions x batch; called from the worker threads, so it must be thread-safe)
   const robot::SkillDef* parent = nullptr;
   std::function<void(const Eigen::MatrixXf&, Eigen::MatrixXf*)> parentPolicy;
+  /// the skills a handover episode routes through after the parent (handover_from an ancestor further up: the
+  /// one-leg stand between walk and kick), in route order
+  std::vector<HandoverStage> via;
 };
 
 /// Statistics of one environment's current episode, for evaluation.
@@ -72,7 +103,7 @@ class SkillEnv final : public VecEnv {
  private:
   struct Env;
   void resetEnv(Env& e, bool allowHandover = true);
-  bool handOver(Env& e);
+  bool handOver(Env& e, robot::SkillCommand* commandAtSwitch);
   void sampleCommand(Env& e);
   void observe(const Env& e, float* out) const;
   int lessonCount() const;
@@ -82,7 +113,10 @@ class SkillEnv final : public VecEnv {
   robot::RobotModel model_;
   robot::SkillDef skill_;      // the tree entry with the current lesson applied (see applyLesson)
   robot::SkillDef treeSkill_;  // the tree entry as written
-  robot::SkillDef parent_;  // handover episodes only
+  robot::SkillDef parent_;  // handover episodes only: the skill that drives first
+  std::vector<robot::SkillDef> via_;  // ... the skills routed through after it
+  robot::SkillDef fadeFrom_;  // ... and the one this skill takes over from (whose prior fades out)
+  std::vector<HandoverStage> route_;  // parent_ then via_, with their policies
   std::vector<WeightedTerm> terms_;
   SkillEnvOptions options_;
   WorkerPool pool_;

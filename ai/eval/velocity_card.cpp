@@ -53,6 +53,10 @@ struct Episode {
   engine::BallState ballState;
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   double bestKick = 0;
+  // a lead-in (CardDef::leadIn): the previous skill's prior fading out, and lead-ins drawn again after a fall
+  robot::PhaseClock fadePhase;
+  int fadeTicks = 0;
+  int leadInFalls = 0;
   int fallKind = -1;         // command kind active when it fell (0 forward/backward, 1 sideways, 2 turn, 3 zero)
   bool fellAfterPush = false;  // within 2 s of a push
   bool fellAfterChange = false;  // within 2 s of a command change (not counting the first command)
@@ -93,7 +97,8 @@ int commandKind(const robot::SkillCommand& c) { return c.vx != 0 ? 0 : c.vy != 0
 
 // runs a batch of episodes of `ticks` ticks; standing episodes keep a zero command and no pushes
 void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
-              const robot::CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, WorkerPool& pool) {
+              const robot::CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, WorkerPool& pool,
+              const std::vector<HandoverStage>& leadIn) {
   const bool walking = mode == Mode::kWalking;
   const int n = int(eps.size());
   const int segment = int(std::lround(o.segmentSeconds / engine::kTickSeconds));
@@ -111,13 +116,32 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
     if (walking)
       e.model.articulation.base.mass +=
           walk.randomisation.addedMass.lo + (walk.randomisation.addedMass.hi - walk.randomisation.addedMass.lo) * unit(e.rng);
-    e.world = std::make_unique<engine::PhysicsWorld>();
-    e.world->addGround(friction);
     const bool stairs = o.kind == robot::CardDef::Kind::Stairs;
-    if (stairs) addTerrain(*e.world, walk.terrain, o.stepHeight, friction);
-    const double yaw = stairs ? 0.2 * (2 * unit(e.rng) - 1) : M_PI * (2 * unit(e.rng) - 1);
-    e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, yaw);  // feet 1: the contact gets the draw
-    e.sensors = e.robot->sense(*e.world);
+    auto place = [&] {
+      e.world = std::make_unique<engine::PhysicsWorld>();
+      e.world->addGround(friction);
+      if (stairs) addTerrain(*e.world, walk.terrain, o.stepHeight, friction);
+      const double yaw = stairs ? 0.2 * (2 * unit(e.rng) - 1) : M_PI * (2 * unit(e.rng) - 1);
+      e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, yaw);  // feet 1: the contact gets the draw
+      e.sensors = e.robot->sense(*e.world);
+    };
+    place();
+    robot::SkillCommand handedOver;
+    if (walking && !leadIn.empty()) {  // enter the skill as play does (a fallen lead-in is drawn again)
+      HandoverEnd end;
+      while (!runHandover(model, e.model, *e.world, *e.robot, &e.sensors, leadIn, walk, e.rng, &end)) {
+        if (++e.leadInFalls == 5) {
+          e.fallen = true;
+          e.fallTick = 0;
+          return;
+        }
+        place();
+        end = HandoverEnd{};
+      }
+      e.phase = end.phase, e.action = end.action, e.fadePhase = end.fadePhase, e.fadeTicks = end.fadeTicks;
+      handedOver = end.command;
+    }
+    if (o.ramp) e.command.vx = handedOver.vx, e.command.vy = handedOver.vy, e.command.wz = handedOver.wz;
     e.start = e.sensors.basePosition.head<2>();
     e.startHeight = e.sensors.basePosition.z();
     e.pushes = walking && o.pushes && pushEvery > 0;
@@ -157,6 +181,12 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       e.phase.advance(walk.prior, e.command);
       robot::PdCommand pd;
       robot::skillPdCommand(e.model, walk, e.action, e.phase, e.command, &pd);
+      if (e.fadeTicks > 0) {  // after a lead-in: the previous skill's prior fades out over 0.3 s, as in play
+        const robot::SkillDef& from = *leadIn.back().skill;
+        e.fadePhase.advance(from.prior, e.command);
+        robot::fadePrior(e.model, from, e.fadePhase, walk, e.phase, e.command, double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
+        --e.fadeTicks;
+      }
       e.robot->setCommand(pd);
       for (int k = 0; k < game::kSubsteps; ++k) {
         e.robot->applyPd(*e.world);
@@ -249,17 +279,19 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
 }  // namespace
 
 CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
-                           const CardRun& run) {
+                           const CardRun& run, const std::vector<HandoverStage>& leadIn) {
   const robot::CardDef& o = run.card;
   WorkerPool pool(run.threads);
   std::mt19937_64 seeder(run.seed);
 
   std::vector<Episode> walking(size_t(o.episodes));
   for (Episode& e : walking) e.rng.seed(seeder());
-  runBatch(model, skill, policy, o, walking, int(std::lround(o.episodeSeconds / engine::kTickSeconds)), Mode::kWalking, pool);
+  runBatch(model, skill, policy, o, walking, int(std::lround(o.episodeSeconds / engine::kTickSeconds)), Mode::kWalking, pool,
+           leadIn);
   std::vector<Episode> standing(size_t(o.standEpisodes));
   for (Episode& e : standing) e.rng.seed(seeder());
-  runBatch(model, skill, policy, o, standing, int(std::lround(o.standSeconds / engine::kTickSeconds)), Mode::kStanding, pool);
+  runBatch(model, skill, policy, o, standing, int(std::lround(o.standSeconds / engine::kTickSeconds)), Mode::kStanding, pool,
+           {});
 
   double kindError[4] = {0, 0, 0, 0};
   long kindCount[4] = {0, 0, 0, 0};
@@ -305,6 +337,12 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
   if (moves || o.speedError >= 0) add("mean |v - v_cmd|", meanSpeed, o.speedError, "m/s", false);
   if (moves || o.yawError >= 0) add("mean |wz - wz_cmd|", meanYaw, o.yawError, "rad/s", false);
   const double meanHeight = counted ? height / double(counted) : 1e9;
+  if (!leadIn.empty()) {  // how often the way in (not the skill) fell and was drawn again
+    int again = 0, lost = 0;
+    for (const Episode& e : walking) again += e.leadInFalls, lost += e.leadInFalls >= 5;
+    r.figures.push_back({"lead-ins that fell and were drawn again (5 in a row: the episode counts as a fall)", double(again), "(reported)", true});
+    if (lost > 0) r.figures.push_back({"episodes lost to their lead-in", double(lost), "(reported)", true});
+  }
   double balanceScore = 0;
   if (o.kind == robot::CardDef::Kind::Kick) {
     int success = 0;
@@ -444,7 +482,7 @@ std::vector<SweepRow> runSpeedSweep(const robot::RobotModel& model, const robot:
   }
   robot::CardDef o;
   o.segmentSeconds = seconds + 1;
-  runBatch(model, walk, policy, o, eps, int(std::lround(seconds / engine::kTickSeconds)), Mode::kSweep, pool);
+  runBatch(model, walk, policy, o, eps, int(std::lround(seconds / engine::kTickSeconds)), Mode::kSweep, pool, {});
   std::vector<SweepRow> rows;
   for (const Episode& e : eps) {
     SweepRow r;

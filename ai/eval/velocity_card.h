@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "ai/env/skill_env.h"
 #include "robot/skill_layout.h"
 #include "robot/skill_tree.h"
 
@@ -39,9 +40,11 @@ struct CardResult {
 };
 
 /// Runs a velocity or height card (CardDef::Kind::Velocity / Height). Commands are one of forward, sideways, turn or zero at a
-/// time (the keyboard's interlock), drawn with the card's mix. Results do not depend on the thread count.
+/// time (the keyboard's interlock), drawn with the card's mix. With `leadIn` (the card's lead_in: the skills that
+/// drive first, as in the skill's training handover episodes, see runHandover) each randomised episode starts where
+/// that route leaves the robot. Results do not depend on the thread count.
 CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
-                           const CardRun& run);
+                           const CardRun& run, const std::vector<HandoverStage>& leadIn = {});
 
 /// One row of a speed sweep: a fixed command held for the whole episode, no pushes, friction 1.
 struct SweepRow {

@@ -364,3 +364,66 @@ TEST(SkillEnv, HandoverEpisodesStartWithTheParentsFilteredAction) {
     else EXPECT_EQ(calls.load(), 0);
   }
 }
+
+TEST(SkillEnv, HandoverFromAGrandparentRoutesThroughTheSkillBetweenForItsTime) {
+  // walk -> squat -> jump, as a routed request in play: the walk (without a gait, its policy a balanced crouch)
+  // drives 0.5 s, the squat takes over once the robot is at rest and runs 0.3 s at a zero command, then the jump.
+  // The squat's policy (another crouch depth) is called 0.3 s per environment, and the jump starts with the
+  // squat's low-passed action in its previous-action slot (within 0.8^30 of it, from the walk's).
+  robot::SkillDef walk = *fixture().tree.find("walk");
+  walk.prior.kind = robot::PriorDef::Kind::None;
+  robot::SkillDef jump = *fixture().tree.find("jump");
+  jump.handover = 1.0;
+  jump.handoverSeconds = {0.5, 0.5};
+  jump.handoverViaSeconds = {0.3, 0.3};
+  const robot::SkillDef& squat = *fixture().tree.find("squat");
+  Eigen::VectorXf crouch = Eigen::VectorXf::Zero(robot::kActionSize), deeper = crouch;
+  for (int leg : {0, 6}) {
+    crouch(leg + 0) = -0.4f, crouch(leg + 3) = 0.8f, crouch(leg + 4) = -0.4f;
+    deeper(leg + 0) = -0.5f, deeper(leg + 3) = 1.0f, deeper(leg + 4) = -0.5f;
+  }
+  std::atomic<int> walkCalls{0}, squatCalls{0};
+  ai::SkillEnvOptions options{4, 2, false};
+  options.parent = &walk;
+  options.parentPolicy = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
+    ++walkCalls;
+    *a = crouch.replicate(1, obs.cols());
+  };
+  options.via.push_back({&squat, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
+                           ++squatCalls;
+                           *a = deeper.replicate(1, obs.cols());
+                         }});
+  ai::SkillEnv env(fixture().model, jump, fixture().tree.path, options);
+  Eigen::MatrixXf obs;
+  env.reset(7, &obs);
+  EXPECT_GE(walkCalls.load(), 4 * 50);  // 0.5 s of the walk (and its wait for rest) in each environment
+  EXPECT_GE(squatCalls.load(), 4 * 30);  // then 0.3 s of the squat in each
+  EXPECT_LE(squatCalls.load(), 4 * 30 + 4 * robot::maxSwitchWaitTicks(jump));
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < robot::kActionSize; ++j)
+      EXPECT_NEAR(obs(robot::kObsPreviousAction + j, i), deeper(j), 0.01) << "env " << i << " joint " << j;
+}
+
+TEST(SkillEnv, ARampedCommandGoesOnFromTheHandoversAsTheKeysDoInPlay) {
+  // the walk (no gait, zero output: it stands) is driven with W held at 1.0 m/s for 0.6 s: the keys' ramp
+  // (0.02 m/s per tick) reaches 1.0 after 50 ticks. The run (ramped commands) then starts from that 1.0 and ramps
+  // on to its own draw; an ordinary episode starts from 0.
+  robot::SkillDef walk = *fixture().tree.find("walk");
+  walk.prior.kind = robot::PriorDef::Kind::None;
+  robot::SkillDef run = *fixture().tree.find("run");
+  ASSERT_TRUE(run.commands.ramp);
+  run.handoverSeconds = {0.6, 0.6};
+  run.handoverVx = {1.0, 1.0};
+  ai::SkillEnvOptions options{4, 2, false};
+  options.parent = &walk;
+  options.parentPolicy = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
+    *a = Eigen::MatrixXf::Zero(robot::kActionSize, obs.cols());
+  };
+  for (double handover : {0.0, 1.0}) {
+    run.handover = handover;
+    ai::SkillEnv env(fixture().model, run, fixture().tree.path, options);
+    Eigen::MatrixXf obs;
+    env.reset(3, &obs);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(obs(robot::kObsCommand, i), handover > 0 ? 1.0f : 0.0f, 1e-6) << "env " << i;
+  }
+}

@@ -252,6 +252,12 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string rootStandUp = walk + "[skill.walk.card]\ntype = \"standup\"\n";  // who lies it down, who takes over?
   EXPECT_NE(errorOf(rootStandUp).find("t.toml:19: skill.walk.card: a standup card needs the skill's parent"), std::string::npos)
       << errorOf(rootStandUp);
+  const std::string rootLeadIn = walk + "[skill.walk.card]\ntype = \"velocity\"\nlead_in = true\n";  // nobody drives first
+  EXPECT_NE(errorOf(rootLeadIn).find("t.toml:21: skill.walk.card.lead_in: only a branch's"), std::string::npos)
+      << errorOf(rootLeadIn);
+  const std::string badLeadIn = walk + "[skill.walk.card]\ntype = \"velocity\"\nlead_in = 1\n";
+  EXPECT_NE(errorOf(badLeadIn).find("t.toml:21: skill.walk.card.lead_in must be true or false"), std::string::npos)
+      << errorOf(badLeadIn);
   const std::string badRamp = walk + "[skill.walk.commands]\nvx = [0, 1]\nramp = 2\n";
   EXPECT_NE(errorOf(badRamp).find("t.toml:21: skill.walk.commands.ramp must be true or false"), std::string::npos)
       << errorOf(badRamp);
@@ -267,6 +273,11 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string grandparent = branch + "[skill.c]\nparent = \"a\"\nkey = 2\n[skill.c.rewards]\nlive = 1\n"
                                            "[skill.c.training]\nhandover = 0.5\nhandover_from = \"walk\"\n";
   EXPECT_EQ(errorOf(grandparent), "");
+  EXPECT_EQ(errorOf(grandparent + "handover_via_s = [0.5, 1.5]\n"), "");  // time in a, between walk and c
+  const std::string nothingBetween = branch + "[skill.a.training]\nhandover = 0.5\nhandover_via_s = [0.5, 1.5]\n";
+  EXPECT_NE(errorOf(nothingBetween).find("t.toml:26: skill.a.training.handover_via_s is the time in the skills between"),
+            std::string::npos)
+      << errorOf(nothingBetween);
   // keyframes: times must increase, keys need an offset, and only a keyframes prior takes keys
   const std::string backwards = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nkeys = [\n  { t = 1.0, offset = { knee = 1 } },\n"
                                        "  { t = 0.5, offset = { knee = 0 } },\n]\n";

@@ -1,0 +1,39 @@
+// velocity_card_test.cpp — a card with a lead-in (CardDef::leadIn): each episode is entered as play enters the
+// skill, with the drivers' policies first, as in the skill's training handover episodes.
+#include "ai/eval/velocity_card.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+
+#include "tests/fixtures.h"
+
+TEST(VelocityCard, ALeadInCardRunsTheDriverBeforeEachEpisode) {
+  // the squat's height card, entered after the walk (no gait, zero output: it stands) drove 0.5 s and the robot
+  // came to rest: the walk's policy runs at least 0.5 s in each of the 2 episodes and none of the lead-ins falls;
+  // without the lead-in the walk's policy never runs and no lead-in figure is reported
+  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  robot::SkillDef walk = *tree.find("walk");
+  walk.prior.kind = robot::PriorDef::Kind::None;
+  robot::SkillDef squat = *tree.find("squat");
+  squat.handoverSeconds = {0.5, 0.5};
+  ai::CardRun run{squat.card, 3, 1};
+  run.card.episodes = 2;
+  run.card.leadIn = true;
+  std::atomic<int> calls{0};
+  const ai::PolicyFn zero = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { act->setZero(robot::kActionSize, obs.cols()); };
+  const std::vector<ai::HandoverStage> leadIn{{&walk, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) {
+                                                 ++calls;
+                                                 act->setZero(robot::kActionSize, obs.cols());
+                                               }}};
+  const ai::CardResult with = ai::runVelocityCard(fixtures::robotModel(), squat, zero, run, leadIn);
+  EXPECT_GE(calls.load(), 2 * 50);
+  double leadInFalls = -1;
+  for (const ai::CardFigure& f : with.figures)
+    if (f.name.rfind("lead-ins that fell", 0) == 0) leadInFalls = f.value;
+  EXPECT_EQ(leadInFalls, 0.0);
+  calls = 0;
+  const ai::CardResult without = ai::runVelocityCard(fixtures::robotModel(), squat, zero, run);
+  EXPECT_EQ(calls.load(), 0);
+  for (const ai::CardFigure& f : without.figures) EXPECT_EQ(f.name.find("lead-in"), std::string::npos) << f.name;
+}
