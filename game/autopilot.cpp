@@ -1,6 +1,7 @@
 // autopilot.cpp — see autopilot.h. Thresholds are in metres along the course and in ticks of 0.01 s.
 #include "game/autopilot.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "game/session.h"
@@ -13,10 +14,15 @@ constexpr double kStairsStart = 2.0;     // stop this far before a step, then th
                                          // 0.7 m/s they fell at the first step)
 constexpr double kStairsSlow = 3.0;      // leave run for walk this far before a step
 constexpr double kCeilingStart = 1.8;    // lie down this far before a tunnel (the body falls ~1 m ahead)
-constexpr double kCeilingClear = 0.5;    // stand up this far past the tunnel's end
+constexpr double kProneY = 0.3;          // lie down this far left of the middle: from the walk's stance the prone
+                                         // falls ~0.4 m to the right, and the crawl drifts on rightward
+constexpr double kCeilingClear = 1.2;    // stand up this far past the tunnel's end (the stand-up kneels back ~0.8 m)
 constexpr double kBallAlignAt = 0.8;     // stop and line up with the ball this far before it (the walk stops in ~0.4 m)
 constexpr double kBallKick = 0.30;       // the kick's card: the ball 0.30 m ahead of the pelvis ...
 constexpr double kBallSide = -0.12;      // ... and 0.12 m to its right (in front of the right foot)
+constexpr double kBallBehind = 1.5;      // a ball up to this far behind the pelvis is still to be kicked: back up to it
+constexpr double kBallClear = 0.45;      // step this far to the side of it before backing up (not into it)
+constexpr double kBallReach = 0.75;      // line up at most this far off the course's middle (the walls are at +-1.0)
 constexpr double kOffLine = 0.45;        // walking this far off y = 0 (or kOffHeading off +X) with nothing close: re-align
 constexpr double kOffHeading = 0.3;
 constexpr double kRestSpeed = 0.06;      // at rest for the align steps [m/s]
@@ -24,8 +30,9 @@ constexpr double kKeyRamp = 2.0;         // the keys' velocity ramp [m/s^2] and 
 constexpr double kTurnRamp = 3.0;
 constexpr double kProneHeight = 0.40;    // lying when the pelvis is this low
 constexpr double kStoodHeight = 0.70;    // standing again
-constexpr int64_t kProneTimeout = 400, kStandTimeout = 600, kJumpTimeout = 400, kBalanceTicks = 150,
-                  kKickTicks = 250, kRecoverTicks = 150, kSettleTicks = 40, kAlignTimeout = 1500, kApproachTimeout = 1500;
+constexpr int64_t kProneLie = 300, kProneTimeout = 600, kStandTimeout = 600, kJumpTimeout = 400, kBalanceTicks = 150,
+                  kKickTicks = 250, kRecoverTicks = 150, kSettleTicks = 40, kAlignTimeout = 1500, kApproachTimeout = 1500,
+                  kBackUpTimeout = 600;
 constexpr int kAlignTries = 4;
 constexpr int kMaxPulses = 8;
 constexpr int64_t kPulseTicks = 15;
@@ -86,6 +93,7 @@ const char* Autopilot::modeName(Mode m) {
     case Mode::Balance: return "balance";
     case Mode::Kick: return "kick";
     case Mode::Recover: return "recover";
+    case Mode::BackUp: return "back up";
   }
   return "?";
 }
@@ -170,6 +178,12 @@ bool Autopilot::approach(int64_t tick, const Cues& c, std::vector<engine::KeyEve
   return false;
 }
 
+void Autopilot::lineUpWithBall(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out) {
+  enter(tick, Mode::Align, 0, false, out);
+  alignY_ = std::clamp(c.ballY - kBallSide, -kBallReach, kBallReach);
+  alignYTol_ = 0.04, alignYawTol_ = 0.05, afterAlign_ = Mode::Approach;
+}
+
 std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
   std::vector<engine::KeyEvent> out;
   if (!started_) {
@@ -190,13 +204,19 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
     case Mode::Walk:
     case Mode::Run:
       if (c.ballAhead < kBallAlignAt && c.ballAhead > kBallKick - 0.15 && !ghostClose) {
+        lineUpWithBall(tick, c, &out);
+      } else if (c.ballAhead <= kBallKick - 0.15 && c.ballAhead > -kBallBehind && !ghostClose) {
+        // beside or behind: clear of it sideways (toward the middle), then back up (Mode::BackUp)
         enter(tick, Mode::Align, 0, false, &out);
-        alignY_ = c.ballY - kBallSide, alignYTol_ = 0.04, alignYawTol_ = 0.05, afterAlign_ = Mode::Approach;
+        alignY_ = std::abs(c.y - c.ballY) >= kBallClear ? c.y : c.ballY + (c.ballY > 0 ? -kBallClear : kBallClear);
+        alignY_ = std::clamp(alignY_, -kBallReach, kBallReach);
+        alignYTol_ = 0.1, alignYawTol_ = 0.1, afterAlign_ = Mode::BackUp;
       } else if (c.boxOverhead && c.canJump && std::abs(c.x - jumpedAtX_) > 1.0) {
         jumpedAtX_ = c.x;
         enter(tick, Mode::Jump, '4', false, &out);
-      } else if (c.ceilingAhead < kCeilingStart) {
-        enter(tick, Mode::Prone, '7', false, &out);
+      } else if (c.ceilingAhead < kCeilingStart) {  // stop square to the course a little left of its middle, then lie down
+        enter(tick, Mode::Align, 0, false, &out);
+        alignY_ = kProneY, alignYTol_ = 0.08, alignYawTol_ = 0.05, afterAlign_ = Mode::Prone;
       } else if (c.stepAhead < kStairsStart) {
         enter(tick, Mode::Stairs, 0, false, &out);
         stairsStarted_ = false, climbed_ = false;
@@ -217,9 +237,18 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
         if (afterAlign_ == Mode::Approach) {
           enter(tick, Mode::Approach, 0, false, &out);
           pulses_ = 0;
+        } else if (afterAlign_ == Mode::Prone) {
+          enter(tick, Mode::Prone, '7', false, &out);
+        } else if (afterAlign_ == Mode::BackUp) {
+          enter(tick, Mode::BackUp, 0, false, &out);
+          hold(tick, 'S', true, &out);
+        } else {
+          enter(tick, Mode::Walk, 0, true, &out);
         }
-        else enter(tick, Mode::Walk, 0, true, &out);
       }
+      break;
+    case Mode::BackUp:
+      if (c.ballAhead > kBallAlignAt - 0.1 || in > kBackUpTimeout) lineUpWithBall(tick, c, &out);
       break;
     case Mode::Approach:
       if (approach(tick, c, &out) || in > kApproachTimeout) enter(tick, Mode::Balance, '5', false, &out);
@@ -245,7 +274,8 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       }
       break;
     case Mode::Prone:
-      if (c.pelvisHeight < kProneHeight || in > kProneTimeout) {
+      // lying, and for as long as the crawl's card lets prone lie first (crawling off a fresh landing rolled it over)
+      if ((c.pelvisHeight < kProneHeight && in > kProneLie) || in > kProneTimeout) {
         ceilingEndX_ = 1e9;  // not under the ceiling yet: it lies down before the tunnel
         enter(tick, Mode::Crawl, '9', true, &out);
       }

@@ -5,11 +5,14 @@
 //
 //   ghost close behind        -> run (1) with W held, until it gives up or stairs come
 //   a step ahead              -> stairs (2) with W, back to walk (0) on flat ground
-//   a low ceiling ahead       -> prone (7), crawl (9) with W under it, then 0 (routed through standup)
+//   a low ceiling ahead       -> stop square to the course 0.3 m left of its middle, prone (7), lie 3 s, crawl (9)
+//                                with W under it, then 0 (routed through standup) 1.2 m past its end
 //   a question box overhead   -> jump (4) until it is hit, then walk on (walk under it if no jump is loaded)
 //   the ball ahead            -> stop, face +X and step sideways until the ball is where the kick's card puts
 //                                it (0.12 m right of the pelvis), walk up in short steps to 0.30 m from it,
 //                                then the one-leg stand (5) and the kick (6); again if it is still short
+//   the ball beside or behind  -> (a kick that sent it sideways) step clear of it, back up (S) until it is ahead,
+//                                and line up again
 //   off the course's line     -> (walking, nothing close) stop, turn back to +X, step sideways back to y = 0
 //   put back at a checkpoint  -> walk on from there (every key released first)
 #pragma once
@@ -51,7 +54,7 @@ Cues senseCues(const Session& session);
 
 class Autopilot {
  public:
-  enum class Mode { Walk, Run, Stairs, Prone, Crawl, StandUp, Jump, Align, Approach, Balance, Kick, Recover };
+  enum class Mode { Walk, Run, Stairs, Prone, Crawl, StandUp, Jump, Align, Approach, Balance, Kick, Recover, BackUp };
 
   /// The key events for this tick, given what the robot perceives.
   std::vector<engine::KeyEvent> decide(int64_t tick, const Cues& cues);
@@ -69,6 +72,8 @@ class Autopilot {
              std::vector<engine::KeyEvent>* out);
   /// Approach mode: short steps forward (W) or back (S) until the ball is kBallKick ahead; true once there.
   bool approach(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
+  /// Align mode toward the kick's spot beside the ball (then Approach).
+  void lineUpWithBall(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
 
   Mode mode_ = Mode::Walk;
   bool started_ = false;

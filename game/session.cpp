@@ -351,10 +351,10 @@ std::string Session::hudLine() const {
   std::snprintf(buf, sizeof buf, "T %.2f  %s  keys %s  v %+.1f %+.1f w %+.1f%s", seconds(), skill.c_str(),
                 keys.empty() ? "-" : keys.c_str(), c.vx, c.vy, c.wz, fallen_ && !course_ ? "  FALLEN" : "");
   std::string hud = buf;
-  if (course_) {
+  if (course_) {  // the game's figures on a second line (on one, a 640 px frame cut them off)
     char game[160];
     const double ghost = course_->ghostDistance();
-    std::snprintf(game, sizeof game, "  score %d  coins %d  ghost %s%s", course_->score(), course_->coins() + course_->gifts(),
+    std::snprintf(game, sizeof game, "\nscore %d  coins %d  ghost %s%s", course_->score(), course_->coins() + course_->gifts(),
                   ghost < 0 ? "-" : (std::to_string(ghost).substr(0, 4) + " m").c_str(),
                   course_->outcome() == Outcome::Won ? "  WON" : course_->outcome() == Outcome::Lost ? "  LOST" : "");
     hud += game;

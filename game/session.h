@@ -92,7 +92,8 @@ class Session {
   /// What the renderer should draw now; hud is left for the caller to fill.
   engine::SceneSnapshot snapshot(engine::CameraMode camera) const;
 
-  /// The HUD line: time, skill, keys held.
+  /// The HUD text: time, skill, keys held and the command; on a game level a second line with score, coins and
+  /// the ghost's distance.
   std::string hudLine() const;
 
   /// Name of the skill driving the robot ("stand" for the standing controller).

@@ -63,25 +63,38 @@ TEST(Autopilot, FlatGroundBeforeTheFirstStepDoesNotEndTheStairs) {
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Stairs);
 }
 
-TEST(Autopilot, LiesDownCrawlsThroughATunnelAndStandsUpAfterIt) {
+TEST(Autopilot, LinesUpLiesDownCrawlsThroughATunnelAndStandsUpWellPastIt) {
   game::Autopilot a;
   a.decide(0, {});
   game::Cues c;
-  c.ceilingAhead = 0.6;
-  EXPECT_EQ(keys(a.decide(1, c)), "tap 7;up W;");
-  c.pelvisHeight = 0.3;  // lying
-  EXPECT_EQ(keys(a.decide(2, c)), "tap 9;down W;");
+  c.ceilingAhead = 1.5;
+  c.speed = 0.5, c.commandVx = 0.5;
+  EXPECT_EQ(keys(a.decide(1, c)), "up W;");  // stop: square to the course, 0.3 m left of its middle first
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
+  c.speed = 0, c.commandVx = 0;
+  EXPECT_EQ(keys(a.decide(2, c)), "");    // at rest ...
+  EXPECT_EQ(keys(a.decide(50, c)), "");   // ... settled
+  EXPECT_EQ(keys(a.decide(100, c)), "");  // facing +X already
+  EXPECT_EQ(keys(a.decide(101, c)), "down Q;");
+  c.y = 0.3, c.commandVy = 0.1;
+  EXPECT_EQ(keys(a.decide(130, c)), "up Q;");
+  c.commandVy = 0;
+  EXPECT_EQ(keys(a.decide(200, c)), "tap 7;");  // lined up: lie down
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Prone);
+  c.pelvisHeight = 0.3;  // lying, but not yet for the 3 s the crawl's card lies first
+  EXPECT_EQ(keys(a.decide(400, c)), "");
+  EXPECT_EQ(keys(a.decide(501, c)), "tap 9;down W;");
   c.ceilingAhead = 1e9;
   c.underCeiling = true;
   c.x = 20.0;
-  EXPECT_EQ(keys(a.decide(3, c)), "");
+  EXPECT_EQ(keys(a.decide(502, c)), "");
   c.underCeiling = false;
-  c.x = 20.3;  // not yet clear by 0.5 m
-  EXPECT_EQ(keys(a.decide(4, c)), "");
-  c.x = 20.6;
-  EXPECT_EQ(keys(a.decide(5, c)), "tap 0;up W;");  // key 0 from crawl is routed through standup
+  c.x = 21.0;  // not yet clear by 1.2 m (the stand-up kneels back ~0.8 m)
+  EXPECT_EQ(keys(a.decide(503, c)), "");
+  c.x = 21.3;
+  EXPECT_EQ(keys(a.decide(504, c)), "tap 0;up W;");  // key 0 from crawl is routed through standup
   c.pelvisHeight = 0.75;
-  EXPECT_EQ(keys(a.decide(200, c)), "down W;");
+  EXPECT_EQ(keys(a.decide(700, c)), "down W;");
 }
 
 TEST(Autopilot, JumpsUnderABoxUntilItIsHitThenWalksOn) {
@@ -137,14 +150,36 @@ TEST(Autopilot, LinesUpWithTheBallThenStepsUpToItAndKicks) {
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Kick);
 }
 
+TEST(Autopilot, ABallLeftBesideItIsReachedAgainFromBehind) {
+  // a kick that stays up and sends the ball sideways: the ball lies beside the pelvis, 0.3 m to the right
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.ballAhead = 0.0, c.ballY = -0.3;
+  EXPECT_EQ(keys(a.decide(1, c)), "up W;");  // stop, and step clear of it (0.45 m: to y = +0.15) ...
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
+  EXPECT_EQ(keys(a.decide(2, c)), "");
+  EXPECT_EQ(keys(a.decide(50, c)), "");
+  EXPECT_EQ(keys(a.decide(100, c)), "");
+  EXPECT_EQ(keys(a.decide(101, c)), "down Q;");
+  c.y = 0.15, c.commandVy = 0.1;
+  EXPECT_EQ(keys(a.decide(130, c)), "up Q;");
+  c.commandVy = 0;
+  EXPECT_EQ(keys(a.decide(200, c)), "down S;");  // ... then back up
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::BackUp);
+  c.ballAhead = 0.5;
+  EXPECT_EQ(keys(a.decide(300, c)), "");
+  c.ballAhead = 0.75;  // ahead again: line up with it as before a first kick
+  EXPECT_EQ(keys(a.decide(301, c)), "up S;");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
+}
+
 TEST(Autopilot, AfterARespawnItReleasesEveryKeyAndWalksOn) {
   game::Autopilot a;
   a.decide(0, {});
   game::Cues c;
-  c.ceilingAhead = 1.0;
-  a.decide(1, c);
-  c.pelvisHeight = 0.3;
-  EXPECT_EQ(keys(a.decide(2, c)), "tap 9;down W;");  // crawling, W held
+  c.ghost = 3.0;
+  EXPECT_EQ(keys(a.decide(1, c)), "tap 1;");  // running, W held
   c = {};
   c.respawns = 1;
   EXPECT_EQ(keys(a.decide(3, c)), "up W;tap 0;down W;");

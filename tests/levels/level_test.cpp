@@ -135,7 +135,7 @@ TEST(LevelLoader, MarioCourseHasEveryStageInOrder) {
   EXPECT_LT(m.balls[0].position.x(), m.goals[0].centre.x());
   int seeThrough = 0;
   for (const levels::BoxDef& b : m.boxes) seeThrough += b.seeThrough;
-  EXPECT_EQ(seeThrough, 3);
+  EXPECT_EQ(seeThrough, 4);  // both sides, behind the start, behind the goal
 }
 
 TEST(LevelLoader, GameLevelsNeedAGoalAndEntitiesNeedRules) {
