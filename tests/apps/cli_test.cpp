@@ -108,6 +108,16 @@ TEST(Cli, TheShippedScriptWinsTheMarioCourse) {
     EXPECT_NE(r.out.find(stage), std::string::npos) << stage << "\n" << r.out;
 }
 
+TEST(Cli, TheStepsTourEndsAliveThroughEveryShippedStage) {
+  // levels/steps/tour.keys (issue 5): walk, run, squat, stairs, prone, crawl through the tunnel, stand-up, and
+  // the walk again at the end, without a fall (no jump: no jump model is shipped)
+  const CliRun r = run("play levels/steps --keys tour.keys --expect alive");
+  EXPECT_EQ(r.code, 0) << r.out;
+  for (const char* stage : {"walk->run at", "run->walk at", "walk->squat at", "walk->stairs at", "walk->prone at",
+                            "prone->crawl at", "crawl->standup at", "standup->walk at"})
+    EXPECT_NE(r.out.find(stage), std::string::npos) << stage << "\n" << r.out;
+}
+
 TEST(Cli, TheAutopilotWinsTheMarioCourseAtSeedOne) {
   // from cues alone (rays in the side layer, the ghost's distance, the ball, its own pose); seeds 1-10: README
   const CliRun r = run("play levels/mario --autopilot --seed 1 --expect win");

@@ -83,7 +83,8 @@ TEST(LevelLoader, MissingFileIsAnError) { EXPECT_THROW(levels::loadLevel(kSource
 
 TEST(PlaneWorld, RayCastHitsTheWallPlacedInTheLevelFile) {
   // levels/steps is a side-view level: its boxes become (x, z) rectangles. A ray at z = 1.0 passes over the
-  // crates and stairs (tallest 0.5 m) and stops at the wall, whose near face is at x = 12.0 - 0.1 = 11.9.
+  // crates, stairs and tunnel (tallest 0.5 m; the tunnel's slab is 0.6-0.8 m up) and stops at the end wall,
+  // whose near face is at x = 34.0 - 0.1 = 33.9.
   const levels::Level steps = levels::loadLevel(kSource + "/levels/steps");
   engine::PlaneWorld plane;
   int wall = -1;
@@ -93,10 +94,10 @@ TEST(PlaneWorld, RayCastHitsTheWallPlacedInTheLevelFile) {
     if (b.name == "wall") wall = int(i);
   }
   ASSERT_GE(wall, 0);
-  const engine::RayHit hit = plane.rayCast({0.0, 1.0}, {20.0, 1.0});
+  const engine::RayHit hit = plane.rayCast({0.0, 1.0}, {40.0, 1.0});
   ASSERT_TRUE(hit.hit);
   EXPECT_EQ(hit.tag, wall);
-  EXPECT_NEAR(hit.point.x(), 11.9, 1e-3);
+  EXPECT_NEAR(hit.point.x(), 33.9, 1e-3);
   EXPECT_NEAR(hit.normal.x(), -1.0, 1e-5);
   // lower down, the same ray meets the first crate (x 1.75..2.25; the side plane ignores y) first
   EXPECT_NEAR(plane.rayCast({0.0, 0.3}, {20.0, 0.3}).point.x(), 1.75, 1e-3);
