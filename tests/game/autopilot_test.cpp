@@ -146,7 +146,8 @@ TEST(Autopilot, LinesUpWithTheBallThenStepsUpToItAndKicks) {
   c.ballAhead = 0.32;
   EXPECT_EQ(keys(a.decide(400, c)), "tap 5;");  // close enough: the one-leg stand
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Balance);
-  EXPECT_EQ(keys(a.decide(600, c)), "tap 6;");
+  EXPECT_EQ(keys(a.decide(900, c)), "");  // on one leg for 5 s first
+  EXPECT_EQ(keys(a.decide(901, c)), "tap 6;");
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Kick);
 }
 
