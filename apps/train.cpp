@@ -63,6 +63,17 @@ ai::DrivingSkill drivingSkill(const Loaded& l, const std::string& name, const st
   return {def, [policy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); }};
 }
 
+// the way a handover into `skill` goes in play: handover_from (or the parent) first, then each skill down to the
+// parent (walk, one_leg for the kick)
+std::vector<const robot::SkillDef*> handoverRoute(const robot::SkillTree& tree, const robot::SkillDef& skill) {
+  const std::string from = skill.handoverFrom.empty() ? skill.parent : skill.handoverFrom;
+  std::vector<const robot::SkillDef*> route;
+  for (const robot::SkillDef* at = tree.find(skill.parent);; at = tree.find(at->parent)) {
+    route.insert(route.begin(), at);
+    if (at->name == from) return route;
+  }
+}
+
 // the skills that drive a card's other stages: a ground card's parent (it lies down first) and a standup card's up
 // skill (it takes over once the robot stands); none for the other kinds
 struct CardDrivers {
@@ -72,11 +83,9 @@ struct CardDrivers {
 CardDrivers loadCardDrivers(const Loaded& l, const std::string& modelsDir) {
   if (l.skill->card.leadIn) {
     CardDrivers d;
-    const std::string from = l.skill->handoverFrom.empty() ? l.skill->parent : l.skill->handoverFrom;
-    for (const robot::SkillDef* at = l.tree.find(l.skill->parent);; at = l.tree.find(at->parent)) {
+    for (const robot::SkillDef* at : handoverRoute(l.tree, *l.skill)) {
       const ai::DrivingSkill ds = drivingSkill(l, at->name, modelsDir, "its card starts as play enters the skill");
-      d.leadIn.insert(d.leadIn.begin(), ai::HandoverStage{ds.def, ds.policy});
-      if (at->name == from) break;
+      d.leadIn.push_back({ds.def, ds.policy});
     }
     return d;
   }
@@ -148,9 +157,9 @@ int runTrain(const TrainOptions& o) {
     std::printf("handover episodes: %.0f %% start under '%s' (%s) for %.1f-%.1f s\n", 100 * skill.handover,
                 parent->name.c_str(), path.c_str(), skill.handoverSeconds.lo, skill.handoverSeconds.hi);
     // the skills between handover_from and this one, which a routed request passes through in play
-    std::vector<const robot::SkillDef*> via;
-    for (const robot::SkillDef* at = l.tree.find(skill.parent); at != parent; at = l.tree.find(at->parent)) via.insert(via.begin(), at);
-    for (const robot::SkillDef* v : via) {
+    const std::vector<const robot::SkillDef*> route = handoverRoute(l.tree, skill);
+    for (auto it = route.begin() + 1; it != route.end(); ++it) {
+      const robot::SkillDef* v = *it;
       const std::string vpath = modelsDir + "/" + v->model;
       if (!std::filesystem::exists(vpath))
         throw engine::Error(vpath + ": the skill '" + v->name + "' has no model yet (handover episodes route through it): train " +
@@ -331,11 +340,10 @@ int runEval(const EvalOptions& o) {
     std::string leadIn;  // "walk 1-3 s, to rest, one_leg 0-2 s, then " for a lead_in card
     if (def.leadIn) {
       char b[160];
-      const std::string from = l.skill->handoverFrom.empty() ? l.skill->parent : l.skill->handoverFrom;
-      std::snprintf(b, sizeof b, "each entered as in play: %s %g-%g s", from.c_str(), l.skill->handoverSeconds.lo, l.skill->handoverSeconds.hi);
-      leadIn = b;
-      for (const robot::SkillDef* at = l.tree.find(l.skill->parent); at->name != from; at = l.tree.find(at->parent)) {
-        std::snprintf(b, sizeof b, ", %s %g-%g s", at->name.c_str(), l.skill->handoverViaSeconds.lo, l.skill->handoverViaSeconds.hi);
+      const std::vector<const robot::SkillDef*> route = handoverRoute(l.tree, *l.skill);
+      for (size_t k = 0; k < route.size(); ++k) {
+        const robot::Range& t = k == 0 ? l.skill->handoverSeconds : l.skill->handoverViaSeconds;
+        std::snprintf(b, sizeof b, "%s%s %g-%g s", k == 0 ? "each entered as in play: " : ", ", route[k]->name.c_str(), t.lo, t.hi);
         leadIn += b;
       }
       leadIn = " (" + leadIn + ", then " + o.skill + ")";

@@ -80,7 +80,6 @@ SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill,
       throw engine::Error("skill '" + skill_.name + "' trains handover episodes: the environment needs its parent's policy");
     parent_ = *options_.parent;
     for (const HandoverStage& v : options_.via) via_.push_back(*v.skill);
-    fadeFrom_ = via_.empty() ? parent_ : via_.back();
     route_.push_back({&parent_, options_.parentPolicy});
     for (size_t k = 0; k < via_.size(); ++k) route_.push_back({&via_[k], options_.via[k].policy});
   }
@@ -321,8 +320,9 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     robot::PdCommand pd;
     robot::skillPdCommand(e.model, skill_, e.action, e.phase, e.command, &pd);
     if (e.fadeTicks > 0) {  // a handover episode's first 0.3 s: the parent's prior fades out as in play
-      e.fadePhase.advance(fadeFrom_.prior, e.command);
-      robot::fadePrior(e.model, fadeFrom_, e.fadePhase, skill_, e.phase, e.command,
+      const robot::SkillDef& from = *route_.back().skill;
+      e.fadePhase.advance(from.prior, e.command);
+      robot::fadePrior(e.model, from, e.fadePhase, skill_, e.phase, e.command,
                        double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
       --e.fadeTicks;
     }

@@ -115,8 +115,7 @@ class SkillEnv final : public VecEnv {
   robot::SkillDef treeSkill_;  // the tree entry as written
   robot::SkillDef parent_;  // handover episodes only: the skill that drives first
   std::vector<robot::SkillDef> via_;  // ... the skills routed through after it
-  robot::SkillDef fadeFrom_;  // ... and the one this skill takes over from (whose prior fades out)
-  std::vector<HandoverStage> route_;  // parent_ then via_, with their policies
+  std::vector<HandoverStage> route_;  // parent_ then via_, with their policies (the last one's prior fades out)
   std::vector<WeightedTerm> terms_;
   SkillEnvOptions options_;
   WorkerPool pool_;

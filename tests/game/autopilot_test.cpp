@@ -14,6 +14,18 @@ std::string keys(const std::vector<engine::KeyEvent>& ev) {
   return s;
 }
 
+// Align mode, already at rest and facing +X: it settles, then steps left (Q) to `y` and lets go there
+void settlesThenStepsLeftTo(game::Autopilot& a, game::Cues& c, double y) {
+  c.speed = 0, c.commandVx = 0;
+  EXPECT_EQ(keys(a.decide(2, c)), "");    // at rest ...
+  EXPECT_EQ(keys(a.decide(50, c)), "");   // ... settled
+  EXPECT_EQ(keys(a.decide(100, c)), "");  // facing +X already
+  EXPECT_EQ(keys(a.decide(101, c)), "down Q;");
+  c.y = y, c.commandVy = 0.1;
+  EXPECT_EQ(keys(a.decide(130, c)), "up Q;");
+  c.commandVy = 0;
+}
+
 }  // namespace
 
 TEST(Autopilot, StartsWalkingForward) {
@@ -71,14 +83,7 @@ TEST(Autopilot, LinesUpLiesDownCrawlsThroughATunnelAndStandsUpWellPastIt) {
   c.speed = 0.5, c.commandVx = 0.5;
   EXPECT_EQ(keys(a.decide(1, c)), "up W;");  // stop: square to the course, 0.3 m left of its middle first
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
-  c.speed = 0, c.commandVx = 0;
-  EXPECT_EQ(keys(a.decide(2, c)), "");    // at rest ...
-  EXPECT_EQ(keys(a.decide(50, c)), "");   // ... settled
-  EXPECT_EQ(keys(a.decide(100, c)), "");  // facing +X already
-  EXPECT_EQ(keys(a.decide(101, c)), "down Q;");
-  c.y = 0.3, c.commandVy = 0.1;
-  EXPECT_EQ(keys(a.decide(130, c)), "up Q;");
-  c.commandVy = 0;
+  settlesThenStepsLeftTo(a, c, 0.3);
   EXPECT_EQ(keys(a.decide(200, c)), "tap 7;");  // lined up: lie down
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Prone);
   c.pelvisHeight = 0.3;  // lying, but not yet for the 3 s the crawl's card lies first
@@ -159,13 +164,7 @@ TEST(Autopilot, ABallLeftBesideItIsReachedAgainFromBehind) {
   c.ballAhead = 0.0, c.ballY = -0.3;
   EXPECT_EQ(keys(a.decide(1, c)), "up W;");  // stop, and step clear of it (0.45 m: to y = +0.15) ...
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
-  EXPECT_EQ(keys(a.decide(2, c)), "");
-  EXPECT_EQ(keys(a.decide(50, c)), "");
-  EXPECT_EQ(keys(a.decide(100, c)), "");
-  EXPECT_EQ(keys(a.decide(101, c)), "down Q;");
-  c.y = 0.15, c.commandVy = 0.1;
-  EXPECT_EQ(keys(a.decide(130, c)), "up Q;");
-  c.commandVy = 0;
+  settlesThenStepsLeftTo(a, c, 0.15);
   EXPECT_EQ(keys(a.decide(200, c)), "down S;");  // ... then back up
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::BackUp);
   c.ballAhead = 0.5;
