@@ -160,6 +160,7 @@ void Session::controlSystem() {
     // (and a stand-up hands over to the walk once the robot stands: robot::postureAllowsSwitch)
     bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks) &&
                  (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_));
+    const bool inPhase = !active_ || !next || robot::phaseAllowsSwitch(active_->def, next->def, phase_);
     // a skill that starts from the default pose (the jump, the kick) waits for a squat or a lift to come back first
     if (next && active_ && robot::startsFromDefaultPose(next->def) && input_.state().amplitude > 0) {
       input_.lowerAmplitude();
@@ -180,7 +181,7 @@ void Session::controlSystem() {
       brakeTarget_ = robot::switchBrakeTarget(active_->def, next->def, wantedCommand);
       ready = robot::readyForSwitch(active_->def, next->def, brakeTarget_, brake_, sensors_) || restWaitTicks_ >= robot::maxSwitchWaitTicks(next->def);
     }
-    if (next && ready) {
+    if (next && ready && inPhase) {  // (a skill that brakes first reaches its phase window within a cycle)
       switchTo(next);
       restWaitTicks_ = -1;
     }

@@ -248,6 +248,12 @@ bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors
   return hasStoodUp(sensors) && restingLevel(sensors);
 }
 
+bool phaseAllowsSwitch(const SkillDef& from, const SkillDef& to, const PhaseClock& phase) {
+  if (from.prior.kind != PriorDef::Kind::Phase || (to.switchInPhase.lo <= 0.0 && to.switchInPhase.hi >= 1.0)) return true;
+  const double fraction = double(phase.tp) / (2.0 * from.prior.halfPeriodTicks);
+  return fraction >= to.switchInPhase.lo && fraction <= to.switchInPhase.hi;
+}
+
 Eigen::Vector2d groundHeading(const Sensors& s) {
   Eigen::Vector2d h = (s.baseRotation * Eigen::Vector3d::UnitZ()).head<2>();
   if (h.norm() < 0.3) h = (s.baseRotation * Eigen::Vector3d::UnitX()).head<2>();

@@ -142,7 +142,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     const toml::table* t = v.as_table();
     if (!t) throw Error(located(path, s.line, where + " must be a table"));
     r.onlyKeys(*t, {"parent", "up", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
-                    "termination", "randomisation", "training", "card", "terrain", "curriculum", "ball", "ppo"},
+                    "termination", "randomisation", "training", "card", "terrain", "curriculum", "ball", "ppo", "switch_in_phase"},
                where);
     if (const toml::node* p = t->get("parent")) {
       auto v2 = p->value<std::string>();
@@ -160,6 +160,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       if (!keys.insert(s.key).second) throw Error(located(path, r.line(*key), where + ": key " + std::to_string(s.key) + " is taken"));
     }
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
+    s.switchInPhase = r.range(*t, "switch_in_phase", {0.0, 1.0}, 0.0, 1.0, where);
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
       r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat", "repeat_from"}, where + ".prior");

@@ -224,6 +224,9 @@ struct SkillDef {
   /// cannot switch back to walk, so its way up is standup, and standup's way up is walk. "" = the parent.
   std::string up;
   int key = -1;        ///< 0..9; -1: none (a skill reached only by routing through it, as another's `up`)
+  /// A switch into this skill from one with a phase prior waits until that skill's gait phase, as a fraction of
+  /// its cycle (tp / 2 T1), is within this range (at most one cycle: robot::phaseAllowsSwitch). [0, 1]: any phase.
+  Range switchInPhase{0.0, 1.0};
   std::string model;   ///< ONNX file name inside assets/skills/
   PriorDef prior;
   JointArray kp{}, kd{};           ///< PD gains per joint

@@ -225,6 +225,32 @@ TEST(Session, ASlowerSkillTakesOverOnceTheCommandHasRampedToItsTopSpeed) {
   EXPECT_EQ(s.telemetry().switches.back().tick - back, robot::kMaxSlowWaitTicks);
 }
 
+TEST(Session, ARunWithAPhaseWindowTakesOverWhenTheWalksGaitReachesIt) {
+  // the walk's stepping prior (80-tick cycle, zero action) from rest; the run (no gait) may take over only in
+  // 0.5-0.82 of the walk's cycle. Asked at tick 10 it waits for tp 40; asked at tick 50, inside, it goes at once.
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
+  robot::SkillDef walk = *shipped.find("walk"), run = *shipped.find("run");
+  walk.prior.standStill = false;
+  ASSERT_EQ(walk.prior.halfPeriodTicks, 40);
+  run.prior.kind = robot::PriorDef::Kind::None;
+  run.switchInPhase = {0.5, 0.82};
+  game::SkillSet set;
+  set.skills.push_back({walk, zero});
+  set.skills.push_back({run, zero});
+  for (const int asked : {10, 50}) {
+    game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
+    s.step(engine::parseKeyScript("0.00 tap 0\n", "k"));  // tick 0: the walk starts its clock (tp 1 after the tick)
+    while (s.tick() < asked) s.step({});
+    s.step({{s.tick(), engine::KeyAction::kTap, '1'}});
+    while (s.activeSkillName() != "run" && s.tick() < asked + 100) s.step({});
+    ASSERT_EQ(s.activeSkillName(), "run") << "asked at " << asked;
+    // the switch is made before the tick's clock advance: at tick t the walk's clock reads tp = t
+    EXPECT_EQ(s.telemetry().switches.back().tick, asked == 10 ? 40 : 50) << "asked at " << asked;
+  }
+}
+
 TEST(Switching, ASlowerSkillWaitsForThePelvisToSlowToItsTopSpeed) {
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   const robot::SkillDef &walk = *shipped.find("walk"), &run = *shipped.find("run");

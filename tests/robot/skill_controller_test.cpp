@@ -265,6 +265,9 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
       << errorOf(rootHandover);
   const std::string branch = walk + "[skill.a]\nparent = \"walk\"\nkey = 1\n[skill.a.rewards]\nlive = 1\n";
+  const std::string backwardWindow = walk + "[skill.a]\nparent = \"walk\"\nkey = 1\nswitch_in_phase = [0.8, 0.3]\n";
+  EXPECT_NE(errorOf(backwardWindow).find("t.toml:22: skill.a.switch_in_phase: low is above high"), std::string::npos)
+      << errorOf(backwardWindow);
   const std::string notAncestor = branch + "[skill.b]\nparent = \"walk\"\nkey = 2\n[skill.b.rewards]\nlive = 1\n"
                                            "[skill.b.training]\nhandover = 0.5\nhandover_from = \"a\"\n";  // a sibling
   EXPECT_NE(errorOf(notAncestor).find("t.toml:24: skill.b: training.handover_from = 'a' is not one of its ancestors"),
@@ -501,6 +504,24 @@ TEST(Switching, AKeyPoseSkillTakesOverOnlyOnceTheRobotStandsSettled) {
   s.footContact = {true, true};
   s.linearVelocity = Eigen::Vector3d(0.4, 0, 0);              // moving
   EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s));
+}
+
+TEST(Switching, ASkillWithAPhaseWindowTakesOverOnlyInThatPartOfTheGaitCycle) {
+  robot::SkillDef walk, run, squat;
+  walk.name = "walk", run.name = "run", squat.name = "squat";
+  walk.prior.kind = robot::PriorDef::Kind::Phase;
+  walk.prior.halfPeriodTicks = 40;  // a cycle of 80 ticks
+  run.switchInPhase = {0.5, 0.82};  // tp 40..65
+  robot::PhaseClock c;
+  for (const auto& [tp, allowed] : std::vector<std::pair<int, bool>>{{1, false}, {39, false}, {40, true}, {65, true}, {66, false}, {80, false}}) {
+    c.tp = tp;
+    EXPECT_EQ(robot::phaseAllowsSwitch(walk, run, c), allowed) << "tp " << tp;
+    EXPECT_TRUE(robot::phaseAllowsSwitch(walk, squat, c)) << "no window: any phase, tp " << tp;
+  }
+  c.tp = 1;
+  robot::SkillDef still = walk;
+  still.prior.kind = robot::PriorDef::Kind::Pose;  // from a skill without a gait the window does not apply
+  EXPECT_TRUE(robot::phaseAllowsSwitch(still, run, c));
 }
 
 TEST(Switching, AGroundBranchTakesOverFromProneOnlyOnceTheRobotLiesStill) {
