@@ -230,6 +230,7 @@ TEST(Curriculum, AmplitudeLessonsRaiseTheAmplitudeTop) {
   robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
   oneLeg.curriculum.amplitudeMax = {0.6, oneLeg.commands.amplitude.hi};
   oneLeg.curriculum.advanceAt = 0.01;
+  oneLeg.handover = 0;  // episodes from the spawn (a handover needs the walk's policy)
   ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, {4, 1, false});
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.hi, 0.6);
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.lo, oneLeg.commands.amplitude.lo);
@@ -255,7 +256,8 @@ TEST(Curriculum, NoLessonChangeBelowTheBar) {
 }
 
 TEST(SkillEnv, RampedAmplitudeMovesAtMostItsRatePerTick) {
-  const robot::SkillDef& oneLeg = *fixture().tree.find("one_leg");
+  robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
+  oneLeg.handover = 0;  // episodes from the spawn (a handover needs the walk's policy)
   ASSERT_DOUBLE_EQ(oneLeg.commands.amplitudeRate, 1.0);  // the R / F keys' rate: 0.01 per tick
   ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, {2, 1, false});
   Eigen::MatrixXf obs;
