@@ -20,6 +20,9 @@ constexpr double kCeilingClear = 1.2;    // stand up this far past the tunnel's 
 constexpr double kBallAlignAt = 0.8;     // stop and line up with the ball this far before it (the walk stops in ~0.4 m)
 constexpr double kBallKick = 0.30;       // the kick's card: the ball 0.30 m ahead of the pelvis ...
 constexpr double kBallSide = -0.12;      // ... and 0.12 m to its right (in front of the right foot)
+// kick only from the card's spot, within these: a line-up that timed out or ran out of steps, or a ball that moved
+// during the one-leg stand, lines up again
+constexpr double kBallAheadTol = 0.08, kBallSideTol = 0.06, kBallYawTol = 0.10;
 constexpr double kBallBehind = 1.5;      // a ball up to this far behind the pelvis is still to be kicked: back up to it
 constexpr double kBallClear = 0.45;      // step this far to the side of it before backing up (not into it)
 constexpr double kBallReach = 0.75;      // line up at most this far off the course's middle (the walls are at +-1.0)
@@ -180,6 +183,13 @@ bool Autopilot::approach(int64_t tick, const Cues& c, std::vector<engine::KeyEve
   return false;
 }
 
+bool Autopilot::atKickSpot(const Cues& c) {
+  // beside the ball where the line-up puts the pelvis (kBallSide from it, or as near as the walls let it)
+  const double lineY = std::clamp(c.ballY - kBallSide, -kBallReach, kBallReach);
+  return std::abs(c.ballAhead - kBallKick) < kBallAheadTol && std::abs(c.y - lineY) < kBallSideTol &&
+         std::abs(wrap(c.yaw)) < kBallYawTol;
+}
+
 void Autopilot::lineUpWithBall(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out) {
   enter(tick, Mode::Align, 0, false, out);
   alignY_ = std::clamp(c.ballY - kBallSide, -kBallReach, kBallReach);
@@ -253,7 +263,10 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       if (c.ballAhead > kBallAlignAt - 0.1 || in > kBackUpTimeout) lineUpWithBall(tick, c, &out);
       break;
     case Mode::Approach:
-      if (approach(tick, c, &out) || in > kApproachTimeout) enter(tick, Mode::Balance, '5', false, &out);
+      if (approach(tick, c, &out) || in > kApproachTimeout) {
+        if (atKickSpot(c)) enter(tick, Mode::Balance, '5', false, &out);
+        else lineUpWithBall(tick, c, &out);
+      }
       break;
     case Mode::Stairs:
       if (!stairsStarted_) {  // at rest first, then the stairs skill and W
@@ -296,7 +309,10 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       }
       break;
     case Mode::Balance:
-      if (in > kBalanceTicks) enter(tick, Mode::Kick, '6', false, &out);
+      if (in > kBalanceTicks) {
+        if (atKickSpot(c)) enter(tick, Mode::Kick, '6', false, &out);
+        else enter(tick, Mode::Walk, '0', false, &out);  // the walk's rules line it up again (or back up)
+      }
       break;
     case Mode::Kick:
       if (in > kKickTicks) enter(tick, Mode::Recover, '0', false, &out);

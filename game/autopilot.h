@@ -72,6 +72,8 @@ class Autopilot {
              std::vector<engine::KeyEvent>* out);
   /// Approach mode: short steps forward (W) or back (S) until the ball is kBallKick ahead; true once there.
   bool approach(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
+  /// The ball where the kick's card puts it (kBallKick ahead, kBallSide to the right, facing +X), within tolerances.
+  static bool atKickSpot(const Cues& c);
   /// Align mode toward the kick's spot beside the ball (then Approach).
   void lineUpWithBall(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
 

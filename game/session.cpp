@@ -301,7 +301,10 @@ void Session::rulesSystem() {
   // kStuckTicks counts as down too (levels/mario's autopilot once leaned on the wall in the one-leg stand for 215 s)
   const bool slumped = active_ && !ground && (sensors_.tilt > kSwitchMaxTilt || sensors_.basePosition.z() < kStuckPelvisHeight);
   stuckTicks_ = slumped ? stuckTicks_ + 1 : 0;
-  const bool down = ground ? robot::hasFallen(active_->def.termination, sensors_)
+  const SkillRuntime* way = ground && skills_ && !active_->def.up.empty() ? skills_->byName(active_->def.up) : nullptr;
+  const bool risingTooLong = way && !robot::isGroundSkill(way->def) && tick_ - activeSince_ >= kStandUpTicks &&
+                             sensors_.basePosition.z() < kStuckPelvisHeight;
+  const bool down = ground ? robot::hasFallen(active_->def.termination, sensors_) || risingTooLong
                            : sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt ||
                                  stuckTicks_ >= kStuckTicks;
   if (down && !down_) {

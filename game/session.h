@@ -36,6 +36,10 @@ constexpr double kFallTilt = 0.8;
 /// ... or it has been stuck this many ticks in an upright skill tilted more than kSwitchMaxTilt or with the pelvis
 /// below kStuckPelvisHeight [m] (no switch can take it out of there).
 constexpr int kStuckTicks = 300;
+/// A stand-up (a ground skill whose way up is an upright skill) with the pelvis still below kStuckPelvisHeight this
+/// long after it took over counts as down: it slumped back and holds its last pose, and no key can take a lying
+/// robot anywhere but up (levels/mario's autopilot lay 190 s so; the stand-up's card rises within 5 s).
+constexpr int kStandUpTicks = 1000;
 constexpr double kStuckPelvisHeight = 0.5;
 /// A routed switch waits until the robot is tilted less than this [rad] ...
 constexpr double kSwitchMaxTilt = 0.35;

@@ -327,6 +327,29 @@ TEST(Session, KeyZeroWhileLyingStandsUpThenWalks) {
   EXPECT_FALSE(s.fallen()) << "fell at tick " << s.fallTick() << "; walk from " << sw[2].tick;
 }
 
+// a stand-up that does not rise (here its prior is switched off: it holds the lying pose) is down kStandUpTicks
+// after it took over, as a fall: no key takes a lying robot anywhere but up
+TEST(Session, AStandUpStillLyingAfterTenSecondsCountsAsAFall) {
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
+  game::SkillSet skills;
+  skills.skills.push_back({*shipped.find("walk"), zero});
+  skills.skills.push_back({*shipped.find("prone"), zero});
+  robot::SkillDef standup = *shipped.find("standup");
+  standup.prior = shipped.find("prone")->prior;  // lies as prone lies: never rises
+  skills.skills.push_back({standup, zero});
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &skills});
+  s.step(engine::parseKeyScript("0.00 tap 7\n", "k"));
+  for (int i = 1; i < 350; ++i) s.step({});
+  s.step({{s.tick(), engine::KeyAction::kTap, '0'}});
+  ASSERT_EQ(s.activeSkillName(), "standup");
+  const int64_t since = s.telemetry().switches.back().tick;
+  while (s.telemetry().falls == 0 && s.tick() < since + game::kStandUpTicks + 100) s.step({});
+  EXPECT_EQ(s.telemetry().falls, 1);
+  EXPECT_EQ(s.fallTick(), since + game::kStandUpTicks);
+}
+
 // a fall on a game level respawns the robot at rest: the root skill takes it (as at the level's start) with the
 // velocity commands back at 0, and the skill the keys still ask for is entered from there, as any request is
 TEST(Session, ARespawnHandsTheRobotToTheRootAtRest) {
