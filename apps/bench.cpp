@@ -1,5 +1,7 @@
 // bench.cpp — `treelearn bench`: physics (standing G1, 1 and 2 threads), rendering (640x360 with and
-// without PNG) and headless play throughput. Timing only; nothing here passes or fails.
+// without PNG) and headless play throughput; with --autopilot N, levels/mario by autopilot at seeds 1..N. Timing
+// and counts only; nothing here passes or fails.
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -8,6 +10,7 @@
 
 #include "apps/commands.h"
 #include "engine/core/file_io.h"
+#include "engine/loop/clock.h"
 #include "engine/render/png_writer.h"
 #include "engine/render/renderer.h"
 #include "game/play.h"
@@ -97,6 +100,39 @@ int runBench(const BenchOptions& o) {
   play.ticks = int64_t(o.seconds * 100);
   const game::PlayResult r = game::play(flat, model, play);
   report("play_realtime_factor", o.seconds / r.wallSeconds, "x", "(target >= 20; headless, no frames)");
+
+  // levels/mario by autopilot (issue 6's measure: wins out of 10 seeds), two seeds at a time
+  if (o.autopilotSeeds > 0) {
+    const levels::Level mario = levels::loadLevel("levels/mario");
+    const game::SkillSet skills = loadSkills(model);
+    std::vector<game::PlayResult> results(size_t(o.autopilotSeeds));
+    std::atomic<int> next{0};
+    auto worker = [&] {
+      for (int i; (i = next++) < o.autopilotSeeds;) {
+        game::PlayOptions ap;
+        ap.seed = uint64_t(i + 1);
+        ap.skills = &skills;
+        ap.autopilot = true;
+        ap.hashEvery = 0;
+        ap.ticks = int64_t((mario.timeLimit > 0 ? mario.timeLimit + 0.5 : 600.0) * 100);
+        results[size_t(i)] = game::play(mario, model, ap);
+      }
+    };
+    std::thread a(worker), b(worker);
+    a.join();
+    b.join();
+    int wins = 0, falls = 0;
+    for (int i = 0; i < o.autopilotSeeds; ++i) {
+      const game::PlayResult& p = results[size_t(i)];
+      const bool won = p.outcome == game::Outcome::Won;
+      wins += won;
+      falls += p.telemetry.falls;
+      std::printf("  autopilot seed %-3d %-40s %7.2f s  falls %d\n", i + 1, p.outcomeReason.c_str(),
+                  double(p.ticks) * engine::kTickSeconds, p.telemetry.falls);
+    }
+    report("autopilot_mario_wins", wins, "seeds", ("of " + std::to_string(o.autopilotSeeds) + " (issue 6's target: 9 of 10)").c_str());
+    report("autopilot_mario_falls", falls, "falls", "(over all the seeds)");
+  }
 
   if (!o.csv.empty()) engine::writeFileAtomic(o.csv, csv.str());
   return 0;

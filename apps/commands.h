@@ -16,6 +16,7 @@ struct BenchOptions {
   double seconds = 20.0;  ///< simulated seconds per physics measurement
   int frames = 300;       ///< frames per rendering measurement
   std::string csv;        ///< optional CSV output path
+  int autopilotSeeds = 0; ///< also play levels/mario by autopilot at seeds 1..N (wins, times, falls)
 };
 
 /// Runs the benchmarks and prints a table; returns the exit code.

@@ -315,6 +315,8 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--seconds", bench.seconds, "Simulated seconds per physics measurement")->check(CLI::Range(0.1, 3600.0));
   benchCmd->add_option("--frames", bench.frames, "Frames per rendering measurement")->check(CLI::Range(1, 100000));
   benchCmd->add_option("--csv", bench.csv, "Also write the results as CSV");
+  benchCmd->add_option("--autopilot", bench.autopilotSeeds, "Also play levels/mario by autopilot at seeds 1..N (two at a time) and report wins, winning times and falls")
+      ->check(CLI::Range(1, 1000));
 
   apps::TrainOptions train;
   CLI::App* trainCmd = app.add_subcommand("train", "Train a skill with PPO (a branch starts from its parent)");
