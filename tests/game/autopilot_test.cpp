@@ -156,6 +156,32 @@ TEST(Autopilot, LinesUpWithTheBallThenStepsUpToItAndKicks) {
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Kick);
 }
 
+TEST(Autopilot, KicksOnlyFromTheCardsSpot) {
+  // at the ball after the approach, but 0.1 m left of the line-up (the card's spot: 0.12 m right of the pelvis,
+  // within 6 cm): no one-leg stand but a new line-up; and a ball nudged during the stand: no kick, the walk again
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.ballAhead = 0.75, c.ballY = -0.12;  // pelvis at y 0 already: lined up
+  int64_t t = 1;
+  auto until = [&](game::Autopilot::Mode m) {  // decides tick after tick (at rest) until the mode is m
+    std::string pressed;
+    for (const int64_t end = t + 2000; a.mode() != m && t < end; ++t) pressed += keys(a.decide(t, c));
+    return pressed;
+  };
+  a.decide(t++, c);
+  EXPECT_EQ(until(game::Autopilot::Mode::Approach), "");  // nothing to turn or step
+  c.ballAhead = 0.32, c.y = 0.1;  // there, but 0.1 m left of the line-up (a side step that overshot, a ball that rolled)
+  EXPECT_EQ(keys(a.decide(t++, c)), "");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
+  c.y = 0.0;  // back on the line
+  until(game::Autopilot::Mode::Approach);
+  EXPECT_EQ(keys(a.decide(t++, c)), "tap 5;");
+  ASSERT_EQ(a.mode(), game::Autopilot::Mode::Balance);
+  c.ballAhead = 0.42;  // nudged 0.1 m on during the stand
+  EXPECT_EQ(until(game::Autopilot::Mode::Walk), "tap 0;");
+}
+
 TEST(Autopilot, ABallLeftBesideItIsReachedAgainFromBehind) {
   // a kick that stays up and sends the ball sideways: the ball lies beside the pelvis, 0.3 m to the right
   game::Autopilot a;
