@@ -114,7 +114,7 @@ int runBench(const BenchOptions& o) {
         ap.skills = &skills;
         ap.autopilot = true;
         ap.hashEvery = 0;
-        ap.ticks = int64_t((mario.timeLimit > 0 ? mario.timeLimit + 0.5 : 600.0) * 100);
+        ap.ticks = engine::secondsToTicks(mario.timeLimit > 0 ? mario.timeLimit + 0.5 : 600.0);  // until it ends
         results[size_t(i)] = game::play(mario, model, ap);
       }
     };
