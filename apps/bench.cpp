@@ -44,6 +44,9 @@ double timeStanding(const robot::RobotModel& model, int substeps) {
 
 int runBench(const BenchOptions& o) {
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
+  // --autopilot's level and skills, loaded before the timings so that a missing file stops it at once
+  const levels::Level mario = o.autopilotSeeds > 0 ? levels::loadLevel("levels/mario") : levels::Level{};
+  const game::SkillSet skills = o.autopilotSeeds > 0 ? loadSkills(model) : game::SkillSet{};
   std::ostringstream csv;
   csv << "metric,value,unit\n";
   auto report = [&](const char* metric, double value, const char* unit, const char* note) {
@@ -103,8 +106,6 @@ int runBench(const BenchOptions& o) {
 
   // levels/mario by autopilot (issue 6's measure: wins out of 10 seeds), two seeds at a time
   if (o.autopilotSeeds > 0) {
-    const levels::Level mario = levels::loadLevel("levels/mario");
-    const game::SkillSet skills = loadSkills(model);
     std::vector<game::PlayResult> results(size_t(o.autopilotSeeds));
     std::atomic<int> next{0};
     auto worker = [&] {
