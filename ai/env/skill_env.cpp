@@ -228,14 +228,10 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
     const bool waits = robot::switchWaits(p, next);
     for (int t = 0;; ++t) {
       if (t >= run) {  // the switch, once the skill's brake (if it waits) and the gait phase allow it
-        const bool inPhase = robot::phaseAllowsSwitch(p, next, phase);
-        if (!waits && inPhase) break;
-        if (waits) {
-          target = robot::switchBrakeTarget(p, next, target);
-          if (inPhase && ((robot::readyForSwitch(p, next, target, command, *sensors) && robot::postureAllowsSwitch(p, next, *sensors)) ||
-                          t - run >= robot::maxSwitchWaitTicks(next)))
-            break;
-        }
+        if (waits) target = robot::switchBrakeTarget(p, next, target);
+        const bool ready = !waits || t - run >= robot::maxSwitchWaitTicks(next) ||
+                           (robot::readyForSwitch(p, next, target, command, *sensors) && robot::postureAllowsSwitch(p, next, *sensors));
+        if (ready && robot::phaseAllowsSwitch(p, next, phase)) break;
       }
       engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,
                                   &command.wz);
