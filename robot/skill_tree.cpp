@@ -351,12 +351,13 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     if (const toml::table* bt = r.table(*t, "ball", false, where)) {
       const std::string w = where + ".ball";
-      r.onlyKeys(*bt, {"offset", "jitter"}, w);
+      r.onlyKeys(*bt, {"offset", "jitter", "absent"}, w);
       const std::array<double, 2> off = r.pair(*bt, "offset", {0.3, -0.12}, -5, 5, w);
       s.ball.enabled = true;
       s.ball.x = off[0];
       s.ball.y = off[1];
       s.ball.jitter = r.number(*bt, "jitter", 0.03, 0, 1, w);
+      s.ball.absent = r.number(*bt, "absent", 0.0, 0, 1, w);
     }
     if (const toml::table* tt = r.table(*t, "terrain", false, where)) {
       const std::string w = where + ".terrain";

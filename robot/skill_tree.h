@@ -146,6 +146,9 @@ struct BallTaskDef {
   bool enabled = false;
   double x = 0.3, y = -0.12;  ///< [m]
   double jitter = 0.03;       ///< +- [m] on x and y
+  /// Probability that a training episode has no ball (aux0/aux1 stay 0, as in play on a level without one), so
+  /// that the skill also learns to stay up after a kick at nothing; cards always place the ball.
+  double absent = 0.0;
 };
 
 /// A skill's report card (success criteria), measured by `treelearn eval SKILL`. A bar < 0 is not checked.

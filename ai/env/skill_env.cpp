@@ -176,7 +176,9 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.previousAction = e.action;
   e.lineStart = e.sensors.basePosition.head<2>();  // the episode's motion starts here (after a handover: lying)
   e.lineHeading = robot::groundHeading(e.sensors);
-  e.ball = skill_.ball.enabled ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
+  // [ball] absent: some episodes without one (drawn only when asked for, so other skills' episodes are unchanged)
+  const bool ball = skill_.ball.enabled && !(skill_.ball.absent > 0 && unit(e.rng) < skill_.ball.absent);
+  e.ball = ball ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
   if (e.ball >= 0) e.ballState = e.world->ballState(e.ball);
   e.tick = 0;
   e.episodeReturn = 0;

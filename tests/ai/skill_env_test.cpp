@@ -429,3 +429,27 @@ TEST(SkillEnv, ARampedCommandGoesOnFromTheHandoversAsTheKeysDoInPlay) {
     for (int i = 0; i < 4; ++i) EXPECT_NEAR(obs(robot::kObsCommand, i), handover > 0 ? 1.0f : 0.0f, 1e-6) << "env " << i;
   }
 }
+
+TEST(SkillEnv, ABallAbsentShareStartsThatShareOfEpisodesWithoutTheBall) {
+  // the kick's entry without handovers; the ball's aux slots are its offset ahead (~0.3 m) or 0 without a ball
+  robot::SkillDef kick = *fixture().tree.find("kick");
+  kick.handover = 0;
+  auto ballless = [&](double absent) {
+    kick.ball.absent = absent;
+    ai::SkillEnv env(fixture().model, kick, fixture().tree.path, {40, 2, false});
+    Eigen::MatrixXf obs;
+    env.reset(3, &obs);
+    int none = 0;
+    for (int i = 0; i < 40; ++i) {
+      const float ahead = obs(robot::kObsCommand + 4, i), side = obs(robot::kObsCommand + 5, i);
+      if (ahead == 0.0f && side == 0.0f) ++none;
+      else EXPECT_NEAR(ahead, 0.30f, 0.05f);
+    }
+    return none;
+  };
+  EXPECT_EQ(ballless(0.0), 0);
+  EXPECT_EQ(ballless(1.0), 40);
+  const int half = ballless(0.5);  // binomial(40, 0.5): 10..30 holds with probability > 0.998
+  EXPECT_GE(half, 10);
+  EXPECT_LE(half, 30);
+}
