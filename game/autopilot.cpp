@@ -35,6 +35,7 @@ constexpr double kProneHeight = 0.40;    // lying when the pelvis is this low
 constexpr double kStoodHeight = 0.70;    // standing again
 // kBalanceTicks: the one-leg stand before the kick. Over 10 seeds of levels/mario the kick fell 37 times after
 // 1.5 s of it, 22 after 3 s, 18 after 5 s (the same 6 wins as 1.5 s), 17 after 8 s (4 wins: the waits ran the clock out)
+constexpr double kFlightHeight = 0.86;  // pelvis [m] above which a jump has left the ground (standing: 0.78)
 constexpr int64_t kProneLie = 300, kProneTimeout = 600, kStandTimeout = 600, kJumpTimeout = 400, kBalanceTicks = 500,
                   kKickTicks = 250, kRecoverTicks = 150, kSettleTicks = 40, kAlignTimeout = 1500, kApproachTimeout = 1500,
                   kBackUpTimeout = 600;
@@ -224,7 +225,7 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
         alignY_ = std::clamp(alignY_, -kBallReach, kBallReach);
         alignYTol_ = 0.1, alignYawTol_ = 0.1, afterAlign_ = Mode::BackUp;
       } else if (c.boxOverhead && c.canJump && std::abs(c.x - jumpedAtX_) > 1.0) {
-        jumpedAtX_ = c.x;
+        jumpedAtX_ = c.x, flew_ = false;
         enter(tick, Mode::Jump, '4', false, &out);
       } else if (c.ceilingAhead < kCeilingStart) {  // stop square to the course a little left of its middle, then lie down
         enter(tick, Mode::Align, 0, false, &out);
@@ -303,7 +304,10 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       if ((c.pelvisHeight > kStoodHeight && in > 100) || in > kStandTimeout) enter(tick, Mode::Walk, 0, true, &out);
       break;
     case Mode::Jump:
-      if (c.boxJustHit || in > kJumpTimeout) {
+      // one jump: the walk is asked for once the pelvis has been up (it takes over when the robot stands settled
+      // again); the jump's later landings were where it fell
+      if (c.pelvisHeight > kFlightHeight) flew_ = true;
+      if (c.boxJustHit || flew_ || in > kJumpTimeout) {
         // walk out from under the box (the release floats down in front of it)
         enter(tick, Mode::Walk, '0', true, &out);
       }

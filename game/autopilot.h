@@ -89,6 +89,7 @@ class Autopilot {
   int pulses_ = 0;            // Approach: short W / S presses so far ...
   int64_t pulseTick_ = 0;     // ... and when the latest began
   double jumpedAtX_ = -1e9;   // where the last jump was (one per box)
+  bool flew_ = false;         // the jump in progress has left the ground once
   bool stairsStarted_ = false;  // Stairs mode: at rest and the stairs key pressed ...
   bool climbed_ = false;        // ... and up the first step (higher than standing on flat ground)
   int64_t since_ = 0;        // tick the current mode began

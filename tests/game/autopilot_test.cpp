@@ -114,6 +114,22 @@ TEST(Autopilot, JumpsUnderABoxUntilItIsHitThenWalksOn) {
   EXPECT_EQ(keys(a.decide(51, c)), "");  // one jump per box
 }
 
+TEST(Autopilot, JumpsOnceUnderABoxThenWalksOnEvenWithoutAHit) {
+  // the jump's later landings were where it fell: the walk is asked for once the pelvis has been up
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.boxOverhead = true;
+  EXPECT_EQ(keys(a.decide(1, c)), "tap 4;up W;");
+  c.pelvisHeight = 0.70;  // the crouch
+  EXPECT_EQ(keys(a.decide(40, c)), "");
+  c.pelvisHeight = 0.92;  // in the air, the box missed
+  EXPECT_EQ(keys(a.decide(60, c)), "tap 0;down W;");
+  c.pelvisHeight = 0.78;
+  EXPECT_EQ(keys(a.decide(61, c)), "");  // still under the box: one jump per box
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Walk);
+}
+
 TEST(Autopilot, WalksUnderABoxWhenNoJumpIsLoaded) {
   game::Autopilot a;
   a.decide(0, {});
