@@ -371,3 +371,23 @@ TEST(Session, ARespawnHandsTheRobotToTheRootAtRest) {
   s.step({});
   EXPECT_NEAR(s.command().vx, 0.02, 1e-12);
 }
+
+TEST(Session, ASkillFromTheDefaultPoseAskedForAtTheSpawnWaitsAHopsTime) {
+  // the standing controller holds the fresh spawn for kMinHopTicks before a key-pose skill (the jump) starts: asked
+  // for at the first tick, the jump fell at its second landing in 20 of 20 seeds; the walk starts at once
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  game::SkillSet set;
+  for (const char* name : {"walk", "squat", "jump"})
+    set.skills.push_back({*shipped.find(name), [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); }});
+  ASSERT_TRUE(robot::startsFromDefaultPose(set.byName("jump")->def));
+  ASSERT_FALSE(robot::startsFromDefaultPose(set.byName("walk")->def));
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  for (const char* key : {"4", "0"}) {
+    game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
+    s.step(engine::parseKeyScript(std::string("0.00 tap ") + key + "\n", "k"));
+    while (s.telemetry().switches.empty() && s.tick() < 200) s.step({});
+    ASSERT_EQ(s.telemetry().switches.size(), 1u) << key;
+    EXPECT_EQ(s.telemetry().switches[0].from, "stand");
+    EXPECT_EQ(s.telemetry().switches[0].tick, key[0] == '4' ? game::kMinHopTicks : 0) << key;
+  }
+}
