@@ -131,7 +131,7 @@ TEST(Cli, TheAutopilotWinsTheMarioCourseAtThreeSeeds) {
 
 TEST(Cli, TheCommittedMarioReplayVerifies) {
   // levels/mario/win.replay, recorded from win.keys: tick for tick the same run. If a model, the level or the
-  // robot changed, replay says which (record it again: play levels/mario --keys win.keys --record ...); if the
+  // robot changed, replay says which (record it again: play levels/mario --keys win.keys --seed 26 --record ...); if the
   // code changed the run, it names the first tick that differs
   const CliRun r = run("replay levels/mario/win.replay --verify");
   EXPECT_EQ(r.code, 0) << r.out;
