@@ -102,12 +102,20 @@ TEST(Autopilot, LinesUpLiesDownCrawlsThroughATunnelAndStandsUpWellPastIt) {
   EXPECT_EQ(keys(a.decide(700, c)), "down W;");
 }
 
-TEST(Autopilot, JumpsUnderABoxUntilItIsHitThenWalksOn) {
+namespace {
+// an autopilot walking under a box: it asks for the jump
+game::Autopilot jumpingUnderABox(game::Cues* c) {
   game::Autopilot a;
   a.decide(0, {});
+  c->boxOverhead = true;
+  EXPECT_EQ(keys(a.decide(1, *c)), "tap 4;up W;");
+  return a;
+}
+}  // namespace
+
+TEST(Autopilot, JumpsUnderABoxUntilItIsHitThenWalksOn) {
   game::Cues c;
-  c.boxOverhead = true;
-  EXPECT_EQ(keys(a.decide(1, c)), "tap 4;up W;");
+  game::Autopilot a = jumpingUnderABox(&c);
   c.boxJustHit = true;
   EXPECT_EQ(keys(a.decide(50, c)), "tap 0;down W;");
   c.boxJustHit = false;
@@ -116,11 +124,8 @@ TEST(Autopilot, JumpsUnderABoxUntilItIsHitThenWalksOn) {
 
 TEST(Autopilot, JumpsOnceUnderABoxThenWalksOnEvenWithoutAHit) {
   // the jump's later landings were where it fell: the walk is asked for once the pelvis has been up
-  game::Autopilot a;
-  a.decide(0, {});
   game::Cues c;
-  c.boxOverhead = true;
-  EXPECT_EQ(keys(a.decide(1, c)), "tap 4;up W;");
+  game::Autopilot a = jumpingUnderABox(&c);
   c.pelvisHeight = 0.70;  // the crouch
   EXPECT_EQ(keys(a.decide(40, c)), "");
   c.pelvisHeight = 0.92;  // in the air, the box missed
