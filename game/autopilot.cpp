@@ -44,6 +44,8 @@ constexpr int kMaxPulses = 8;
 constexpr int64_t kPulseTicks = 15;
 
 double wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
+// where the line-up puts the pelvis across the course: kBallSide from the ball, or as near as the walls let it
+double kickLineY(const Cues& c) { return std::clamp(c.ballY - kBallSide, -kBallReach, kBallReach); }
 
 }  // namespace
 
@@ -185,15 +187,13 @@ bool Autopilot::approach(int64_t tick, const Cues& c, std::vector<engine::KeyEve
 }
 
 bool Autopilot::atKickSpot(const Cues& c) {
-  // beside the ball where the line-up puts the pelvis (kBallSide from it, or as near as the walls let it)
-  const double lineY = std::clamp(c.ballY - kBallSide, -kBallReach, kBallReach);
-  return std::abs(c.ballAhead - kBallKick) < kBallAheadTol && std::abs(c.y - lineY) < kBallSideTol &&
+  return std::abs(c.ballAhead - kBallKick) < kBallAheadTol && std::abs(c.y - kickLineY(c)) < kBallSideTol &&
          std::abs(wrap(c.yaw)) < kBallYawTol;
 }
 
 void Autopilot::lineUpWithBall(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out) {
   enter(tick, Mode::Align, 0, false, out);
-  alignY_ = std::clamp(c.ballY - kBallSide, -kBallReach, kBallReach);
+  alignY_ = kickLineY(c);
   alignYTol_ = 0.04, alignYawTol_ = 0.05, afterAlign_ = Mode::Approach;
 }
 

@@ -158,12 +158,12 @@ void Session::controlSystem() {
     const bool ground = active_ && robot::isGroundSkill(active_->def);
     const bool handsOver = !active_ || !next || robot::mayHandOver(active_->def, next->def);
     // (and a stand-up hands over to the walk once the robot stands: robot::postureAllowsSwitch)
-    bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (direct || tick_ - activeSince_ >= kMinHopTicks) &&
+    // a hop's time: after a routed hop, and from the standing controller into a skill that starts from the default
+    // pose (the jump, the kick): the jump asked for at the spawn's first tick fell at its second landing in 20 of 20
+    // seeds on levels/flat, asked for 0.5 s in, in 2 of 20 (7 s of jumping)
+    const bool hopWait = !direct || (!active_ && robot::startsFromDefaultPose(next->def));
+    bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (!hopWait || tick_ - activeSince_ >= kMinHopTicks) &&
                  (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_));
-    // from the standing controller a skill that starts from the default pose (the jump, the kick) waits a hop's
-    // time first, as after a routed hop: the jump asked for at the spawn's first tick fell at its second landing
-    // in 20 of 20 seeds on levels/flat, asked for 0.5 s in, in 2 of 20 (7 s of jumping)
-    if (!active_ && next && robot::startsFromDefaultPose(next->def) && tick_ - activeSince_ < kMinHopTicks) ready = false;
     const bool inPhase = !active_ || !next || robot::phaseAllowsSwitch(active_->def, next->def, phase_);
     // a skill that starts from the default pose (the jump, the kick) waits for a squat or a lift to come back first
     if (next && active_ && robot::startsFromDefaultPose(next->def) && input_.state().amplitude > 0) {
