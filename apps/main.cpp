@@ -46,13 +46,14 @@ std::string resolveKeys(const std::string& keys, const levels::Level& level) {
   return keys;  // readFile reports it missing
 }
 
-std::string summaryText(const levels::Level& level, const game::PlayResult& r, const char* outcome) {
+std::string summaryText(const levels::Level& level, const game::PlayResult& r, uint64_t seed, const char* outcome) {
   const game::Telemetry& t = r.telemetry;
   const double simSeconds = double(r.ticks) * engine::kTickSeconds;
   std::ostringstream s;
   char line[512];
   std::snprintf(line, sizeof line, "level      %s (%s)\n", level.name.c_str(), level.path.c_str());
   s << line;
+  s << "seed       " << seed << "\n";
   s << "outcome    " << outcome << "\n";
   std::snprintf(line, sizeof line, "time       %.2f s simulated in %.2f s wall (%.1fx real time)\n", simSeconds,
                 r.wallSeconds, r.wallSeconds > 0 ? simSeconds / r.wallSeconds : 0.0);
@@ -134,6 +135,7 @@ struct PlayArgs {
   std::string level, keys, record, expect, summary, log;
   double seconds = -1;
   uint64_t seed = 1;
+  bool seedGiven = false;  // --seed on the command line (it overrides a key script's seed line)
   bool autopilot = false;
   OutputOptions out;
 };
@@ -163,7 +165,13 @@ int cmdPlay(const PlayArgs& a) {
   options.autopilot = a.autopilot;
   if (!a.keys.empty()) {
     const std::string path = resolveKeys(a.keys, level);
-    options.events = engine::parseKeyScript(engine::readFile(path), path);
+    const engine::KeyScript script = engine::parseKeyScriptWithSeed(engine::readFile(path), path);
+    options.events = script.events;
+    if (script.seed && !a.seedGiven) options.seed = *script.seed;
+    if (script.seed && a.seedGiven && a.seed != *script.seed)
+      std::fprintf(stderr, "note: --seed %llu overrides %s:%d (seed %llu): another start, so the keys play another run\n",
+                   static_cast<unsigned long long>(a.seed), path.c_str(), script.seedLine,
+                   static_cast<unsigned long long>(*script.seed));
   }
   double seconds = a.seconds;
   if (seconds < 0) seconds = options.events.empty() ? 10.0 : double(options.events.back().tick) * engine::kTickSeconds + 2.0;
@@ -179,7 +187,7 @@ int cmdPlay(const PlayArgs& a) {
     outcome = r.outcome == game::Outcome::Won    ? "won (" + r.outcomeReason + ")"
               : r.outcome == game::Outcome::Lost ? "lost (" + r.outcomeReason + ")"
                                                  : std::string("not finished (the run ended first)");
-  const std::string summary = summaryText(level, r, outcome.c_str());
+  const std::string summary = summaryText(level, r, options.seed, outcome.c_str());
   std::fputs(summary.c_str(), stdout);
   if (!a.summary.empty()) engine::writeFileAtomic(a.summary, summary);
   if (!a.log.empty()) {
@@ -198,7 +206,7 @@ int cmdPlay(const PlayArgs& a) {
     replay.levelHash = level.hash;
     replay.robotHash = model.hash;
     replay.skillsHash = skills.hash;
-    replay.seed = a.seed;
+    replay.seed = options.seed;
     replay.ticks = r.ticks;
     replay.hashEvery = options.hashEvery;
     for (const engine::KeyEvent& e : r.keyEvents)  // the script's or the autopilot's, as applied
@@ -254,7 +262,7 @@ int cmdReplay(const ReplayArgs& a) {
   if (a.verify) options.expected = &replay.states;
   const game::PlayResult r = runWithOutput(level, model, options, a.out);
   if (!a.verify) {
-    std::fputs(summaryText(level, r, r.fallen ? "fell" : "alive (no fall)").c_str(), stdout);
+    std::fputs(summaryText(level, r, replay.seed, r.fallen ? "fell" : "alive (no fall)").c_str(), stdout);
     return 0;
   }
   if (r.divergedTick >= 0) {
@@ -296,7 +304,7 @@ int main(int argc, char** argv) {
   playCmd->add_flag("--autopilot", play.autopilot, "Let the autopilot play a game level from what the robot perceives (not with --keys)");
   playCmd->add_option("--seconds", play.seconds, "Simulated seconds (default: script end + 2 s, or 10 s)")
       ->check(CLI::Range(0.01, 86400.0));
-  playCmd->add_option("--seed", play.seed, "Random seed (default 1)");
+  playCmd->add_option("--seed", play.seed, "Random seed (default: the key script's seed line, else 1)");
   playCmd->add_option("--record", play.record, "Write a replay file");
   playCmd->add_option("--summary", play.summary, "Also write the summary to this file");
   playCmd->add_option("--log", play.log, "Write the centre of mass at 50 Hz (time, skill, x, height, forward speed) to a CSV file");
@@ -361,6 +369,7 @@ int main(int argc, char** argv) {
   }
   try {
     robot::setSkillTreePath(treeFile);
+    play.seedGiven = playCmd->count("--seed") > 0;
     if (*playCmd) return cmdPlay(play);
     if (*replayCmd) return cmdReplay(replay);
     if (*benchCmd) return apps::runBench(bench);

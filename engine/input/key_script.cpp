@@ -1,9 +1,11 @@
 // key_script.cpp — strict key-script parser: byte checks, comments, fields, times, held-key tracking.
 #include "engine/input/key_script.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <system_error>
 
 #include "engine/core/error.h"
 #include "engine/loop/clock.h"
@@ -146,8 +148,9 @@ std::optional<char> parseKeyName(std::string_view word) {
 
 bool isValidKey(char key) { return keyIndex(key) >= 0; }
 
-std::vector<KeyEvent> parseKeyScript(std::string_view text, const std::string& fileName) {
-  std::vector<KeyEvent> events;
+KeyScript parseKeyScriptWithSeed(std::string_view text, const std::string& fileName) {
+  KeyScript script;
+  std::vector<KeyEvent>& events = script.events;
   uint32_t held = 0;           // bit keyIndex(k) set while key k is down
   double previousSeconds = 0.0;
   std::string previousTime;    // the previous event's time as written, for messages
@@ -169,6 +172,19 @@ std::vector<KeyEvent> parseKeyScript(std::string_view text, const std::string& f
     }
     const std::vector<std::string_view> fields = splitFields(line.substr(0, line.find('#')));
     if (fields.empty()) continue;
+    if (fields[0] == "seed") {
+      if (fields.size() != 2) fail("expected 'seed <N>' (2 fields), got " + std::to_string(fields.size()));
+      if (script.seed) fail("a second seed line (the first is line " + std::to_string(script.seedLine) + ")");
+      if (!events.empty()) fail("the seed line must come before the first key event");
+      const std::string_view n = fields[1];
+      uint64_t value = 0;
+      const auto [rest, ec] = std::from_chars(n.data(), n.data() + n.size(), value);
+      if (n.empty() || !std::isdigit(static_cast<unsigned char>(n[0])) || ec != std::errc() || rest != n.data() + n.size())
+        fail("bad seed '" + std::string(n) + "' (expected a whole number from 0 to 18446744073709551615)");
+      script.seed = value;
+      script.seedLine = lineNumber;
+      continue;
+    }
     if (fields.size() != 3) {
       fail("expected '<time_s> <action> <key>' (3 fields), got " + std::to_string(fields.size()));
     }
@@ -205,7 +221,11 @@ std::vector<KeyEvent> parseKeyScript(std::string_view text, const std::string& f
     previousSeconds = seconds;
     previousTime = std::string(fields[0]);
   }
-  return events;
+  return script;
+}
+
+std::vector<KeyEvent> parseKeyScript(std::string_view text, const std::string& fileName) {
+  return parseKeyScriptWithSeed(text, fileName).events;
 }
 
 std::string formatKeyEvent(const KeyEvent& event) {

@@ -1,5 +1,6 @@
 // key_script.h — keyboard scripts: timed key events read from a text file, one per line,
-// "<time_s> <action> <key>" (e.g. "0.50 down W"), '#' starts a comment. Parsing is strict: any
+// "<time_s> <action> <key>" (e.g. "0.50 down W"), '#' starts a comment; an optional "seed <N>" line before the
+// first event names the seed the script was made for (play uses it unless --seed is given). Parsing is strict: any
 // problem throws engine::Error "file:line: what is wrong". Key events are also the unit a replay
 // records, so the event type and its one-line text form live here.
 #pragma once
@@ -52,8 +53,21 @@ bool isValidKey(char key);
 /// unknown action or key, missing or extra fields, a bad time ("1e999", "nan", "-1", "1.5x"), time going
 /// backwards, "down" of a held key, "up" of a key not held, "tap" of a held key, NUL or other control
 /// bytes, non-ASCII outside comments (comments may hold UTF-8), lines over 200 characters, more than
-/// 100000 events. Fields are separated by spaces or tabs; CRLF line ends are accepted.
+/// 100000 events. Fields are separated by spaces or tabs; CRLF line ends are accepted. A seed line is checked
+/// as parseKeyScriptWithSeed() checks it and then left out.
 std::vector<KeyEvent> parseKeyScript(std::string_view text, const std::string& fileName);
+
+/// A key script with its optional seed line.
+struct KeyScript {
+  std::vector<KeyEvent> events;  ///< in file order
+  std::optional<uint64_t> seed;  ///< from a "seed <N>" line (N: 0..18446744073709551615), if the script has one
+  int seedLine = 0;              ///< the seed line's number (1-based), for messages; 0 without one
+};
+
+/// parseKeyScript() that also reads a "seed <N>" line (at most one, before the first event; N a plain decimal
+/// integer that fits 64 bits). Throws engine::Error "fileName:line: ..." for a second seed line, a seed line after
+/// an event, or a bad number ("-1", "1e3", "0x10", too large), besides parseKeyScript()'s errors.
+KeyScript parseKeyScriptWithSeed(std::string_view text, const std::string& fileName);
 
 /// One-line text form with the tick, e.g. "123 down W" (used by replays and logs).
 std::string formatKeyEvent(const KeyEvent& event);

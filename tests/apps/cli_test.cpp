@@ -102,12 +102,38 @@ TEST(Cli, WalkingWithWHeldKeepsToTheLineItStartedOn) {
 TEST(Cli, TheShippedScriptWinsTheMarioCourse) {
   // levels/mario/win.keys: the keys the autopilot pressed at seed 26; every stage in order, both question boxes hit
   // from below by a jump, the ball in the goal
-  const CliRun r = run("play levels/mario --keys win.keys --seed 26 --expect win");
+  // (the script's seed line gives the seed: no --seed needed)
+  const CliRun r = run("play levels/mario --keys win.keys --expect win");
   EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("seed       26\n"), std::string::npos) << r.out;
   for (const char* stage : {"walk->run at", "walk->stairs at", "walk->prone at", "prone->crawl at", "crawl->standup at",
                             "squat->jump at", "question box at x = 32.00 hit", "question box at x = 33.50 hit",
                             "one_leg->kick at", "won: the ball is in the goal"})
     EXPECT_NE(r.out.find(stage), std::string::npos) << stage << "\n" << r.out;
+}
+
+TEST(Cli, AKeyScriptsSeedLinePlaysAsTheSameSeedGivenByOption) {
+  // the seed picks the spawn's joint offsets: a script with "seed 3" plays the run --seed 3 plays, tick for tick
+  // (the same final position to the printed digit), and --seed overrides the line with a note
+  const std::string d = tempDir("seedline");
+  const std::string keys = "0.00 tap 0\n0.00 down W\n";
+  engine::writeFileAtomic(d + "/plain.keys", keys);
+  engine::writeFileAtomic(d + "/seeded.keys", "# made at seed 3\nseed 3\n" + keys);
+  const auto position = [](const CliRun& r) {
+    const size_t at = r.out.find("position   ");
+    return at == std::string::npos ? std::string("none") : r.out.substr(at, r.out.find('\n', at) - at);
+  };
+  const CliRun byLine = run("play levels/flat --seconds 2 --keys " + d + "/seeded.keys");
+  const CliRun byOption = run("play levels/flat --seconds 2 --seed 3 --keys " + d + "/plain.keys");
+  const CliRun byDefault = run("play levels/flat --seconds 2 --keys " + d + "/plain.keys");
+  const CliRun overridden = run("play levels/flat --seconds 2 --seed 1 --keys " + d + "/seeded.keys");
+  ASSERT_EQ(byLine.code, 0) << byLine.out;
+  EXPECT_NE(byLine.out.find("seed       3\n"), std::string::npos) << byLine.out;
+  EXPECT_EQ(position(byLine), position(byOption));
+  EXPECT_NE(position(byLine), position(byDefault));  // seed 1: other joint offsets, another run
+  EXPECT_EQ(position(overridden), position(byDefault));
+  EXPECT_NE(overridden.out.find("note: --seed 1 overrides"), std::string::npos) << overridden.out;
+  EXPECT_NE(overridden.out.find("seeded.keys:2 (seed 3)"), std::string::npos) << overridden.out;
 }
 
 TEST(Cli, TheStepsTourEndsAliveThroughEveryShippedStage) {
@@ -131,7 +157,7 @@ TEST(Cli, TheAutopilotWinsTheMarioCourseAtThreeSeeds) {
 
 TEST(Cli, TheCommittedMarioReplayVerifies) {
   // levels/mario/win.replay, recorded from win.keys: tick for tick the same run. If a model, the level or the
-  // robot changed, replay says which (record it again: play levels/mario --keys win.keys --seed 26 --record ...); if the
+  // robot changed, replay says which (record it again: play levels/mario --keys win.keys --record ...); if the
   // code changed the run, it names the first tick that differs
   const CliRun r = run("replay levels/mario/win.replay --verify");
   EXPECT_EQ(r.code, 0) << r.out;

@@ -53,6 +53,36 @@ TEST(KeyScript, SkipsCommentsAndBlankLinesAndAcceptsTabsAndCrlf) {
   EXPECT_EQ(parseKeyScript(".5 tap 1", "short.keys").at(0).tick, 50);  // leading dot: 0.5 s
 }
 
+TEST(KeyScript, ASeedLineBeforeTheEventsGivesTheScriptsSeed) {
+  const KeyScript s = parseKeyScriptWithSeed("# recorded at seed 26\nseed 26\n0.00 tap 0\n", "win.keys");
+  ASSERT_TRUE(s.seed.has_value());
+  EXPECT_EQ(*s.seed, 26u);
+  EXPECT_EQ(s.seedLine, 2);
+  ASSERT_EQ(s.events.size(), 1u);
+  EXPECT_EQ(parseKeyScriptWithSeed("seed 18446744073709551615\n", "k").seed, UINT64_MAX);  // the largest 64-bit seed
+  EXPECT_FALSE(parseKeyScriptWithSeed("0.00 tap 0\n", "k").seed.has_value());
+  EXPECT_EQ(parseKeyScript("seed 26\n0.00 tap 0\n", "k").size(), 1u);  // the events alone
+}
+
+TEST(KeyScript, RejectsABadSecondOrLateSeedLine) {
+  const auto seedError = [](const std::string& text) {
+    try {
+      parseKeyScriptWithSeed(text, "s.keys");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(seedError("seed 1\nseed 2\n"), "s.keys:2: a second seed line (the first is line 1)");
+  EXPECT_EQ(seedError("0.00 tap 0\nseed 2\n"), "s.keys:2: the seed line must come before the first key event");
+  EXPECT_EQ(seedError("seed\n"), "s.keys:1: expected 'seed <N>' (2 fields), got 1");
+  EXPECT_EQ(seedError("seed 1 2\n"), "s.keys:1: expected 'seed <N>' (2 fields), got 3");
+  for (const char* bad : {"-1", "+1", "1e3", "0x10", "2.5", "18446744073709551616", "x"})
+    EXPECT_EQ(seedError(std::string("seed ") + bad + "\n"),
+              std::string("s.keys:1: bad seed '") + bad + "' (expected a whole number from 0 to 18446744073709551615)")
+        << bad;
+}
+
 TEST(KeyScript, EmptyScriptHasNoEvents) {
   EXPECT_TRUE(parseKeyScript("", "empty.keys").empty());
   EXPECT_TRUE(parseKeyScript("# nothing yet\n", "empty.keys").empty());
