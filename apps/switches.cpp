@@ -229,11 +229,11 @@ int runSwitchEval(const SwitchEvalOptions& o) {
           std::snprintf(fate, sizeof fate, "fell %.2f s after the key under %s (pelvis %.2f m, forward pitch %.0f deg, side lean %.0f deg)",
                         double(t.fallTick - t.switchTick) * engine::kTickSeconds, t.fallSkill.c_str(), t.fallHeight,
                         t.fallPitchDeg, t.fallLeanDeg);
-        char latency[32] = "none";
-        if (t.switched) std::snprintf(latency, sizeof latency, "%.0f ticks", t.latencyTicks);
+        char trialLatency[32] = "none";
+        if (t.switched) std::snprintf(trialLatency, sizeof trialLatency, "%.0f ticks", t.latencyTicks);
         std::printf("      trial %zu: key %s before, %s after, switch key at %.2f s, latency %s, %s\n", i,
                     key(t.keyBefore).c_str(), key(t.keyAfter).c_str(), double(t.switchTick) * engine::kTickSeconds,
-                    latency, fate);
+                    trialLatency, fate);
       }
   }
   for (const std::string& u : untried) std::printf("  %s\n", u.c_str());
