@@ -232,13 +232,20 @@ int cmdPlay(const PlayArgs& a) {
 }
 
 struct ReplayArgs {
-  std::string file;
+  std::string file, keysOut;
   bool verify = false;
   OutputOptions out;
 };
 
 int cmdReplay(const ReplayArgs& a) {
   const engine::Replay replay = engine::loadReplay(a.file);
+  if (!a.keysOut.empty()) {  // before the checks below: the keys of a run stay readable after its models change
+    makeParentDirectory(a.keysOut);
+    engine::writeFileAtomic(a.keysOut, engine::formatKeyScript(replay.events, replay.seed,
+                                                               "the key events of " + a.file + " (level " + replay.level + ")"));
+    std::printf("keys       %s (%zu events, seed %llu)\n", a.keysOut.c_str(), replay.events.size(),
+                static_cast<unsigned long long>(replay.seed));
+  }
   makeParentDirectory(a.out.videoPath);
   const levels::Level level = levels::loadLevel(replay.level);
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
@@ -316,6 +323,7 @@ int main(int argc, char** argv) {
   CLI::App* replayCmd = app.add_subcommand("replay", "Re-simulate a replay file");
   replayCmd->add_option("replay", replay.file, "Replay file written by play --record")->required();
   replayCmd->add_flag("--verify", replay.verify, "Check the recorded state hashes; report the first diverging tick");
+  replayCmd->add_option("--keys-out", replay.keysOut, "Also write the replay's key events as a key script, with its seed line (e.g. an autopilot run's keys)");
   addOutputOptions(replayCmd, &replay.out);
 
   apps::BenchOptions bench;

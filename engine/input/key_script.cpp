@@ -1,6 +1,7 @@
 // key_script.cpp — strict key-script parser: byte checks, comments, fields, times, held-key tracking.
 #include "engine/input/key_script.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -235,6 +236,23 @@ std::string formatKeyEvent(const KeyEvent& event) {
   s += ' ';
   s += event.key;
   return s;
+}
+
+std::string formatKeyScript(const std::vector<KeyEvent>& events, uint64_t seed, const std::string& header) {
+  std::string text;
+  for (size_t at = 0; !header.empty() && at <= header.size();) {
+    const size_t end = std::min(header.find('\n', at), header.size());
+    text += "# " + header.substr(at, end - at) + "\n";
+    at = end + 1;
+  }
+  text += "seed " + std::to_string(seed) + "\n";
+  char line[64];
+  for (const KeyEvent& e : events) {
+    std::snprintf(line, sizeof line, "%lld.%02lld %s %c\n", static_cast<long long>(e.tick / 100),
+                  static_cast<long long>(e.tick % 100), std::string(keyActionName(e.action)).c_str(), e.key);
+    text += line;
+  }
+  return text;
 }
 
 }  // namespace engine

@@ -230,6 +230,21 @@ TEST(Cli, RecordedReplayVerifiesIdentical) {
   EXPECT_NE(ver.out.find("identical: 8 state hashes over 400 ticks match"), std::string::npos) << ver.out;
 }
 
+TEST(Cli, AReplaysKeysWrittenOutPlayTheSameRunAgain) {
+  // replay --keys-out: the recorded events and seed as a key script; played, it records the same replay byte for byte
+  const std::string d = tempDir("keysout");
+  ASSERT_EQ(run("play levels/steps --keys " + kSource + "/levels/flat/square.keys --seconds 4 --seed 11 --record " + d +
+                "/first.replay").code, 0);
+  const CliRun out = run("replay " + d + "/first.replay --keys-out " + d + "/keys/first.keys");
+  ASSERT_EQ(out.code, 0) << out.out;
+  EXPECT_NE(out.out.find("seed 11)"), std::string::npos) << out.out;
+  const std::string keys = engine::readFile(d + "/keys/first.keys");
+  EXPECT_NE(keys.find("\nseed 11\n0.00 tap 0\n0.50 down W\n"), std::string::npos) << keys;
+  const CliRun again = run("play levels/steps --keys " + d + "/keys/first.keys --seconds 4 --record " + d + "/again.replay");
+  ASSERT_EQ(again.code, 0) << again.out;
+  EXPECT_EQ(engine::readFile(d + "/again.replay"), engine::readFile(d + "/first.replay"));
+}
+
 TEST(Cli, CorruptedAndTruncatedReplaysAreRejected) {
   const std::string d = tempDir("corrupt");
   ASSERT_EQ(run("play levels/flat --seconds 1 --record " + d + "/ok.replay").code, 0);

@@ -166,6 +166,17 @@ TEST(KeyScript, RandomBytesAlwaysThrowErrorAndNeverCrash) {
   }
 }
 
+TEST(KeyScript, AWrittenScriptReadsBackAsTheSameEventsAndSeed) {
+  const std::vector<KeyEvent> events = {{0, KeyAction::kTap, '0'}, {50, KeyAction::kDown, 'W'}, {698, KeyAction::kTap, '1'},
+                                        {1318, KeyAction::kUp, 'W'}, {8640000, KeyAction::kTap, 'F'}};
+  const std::string text = formatKeyScript(events, 26, "recorded by the autopilot\nat seed 26");
+  EXPECT_EQ(text.substr(0, 60), "# recorded by the autopilot\n# at seed 26\nseed 26\n0.00 tap 0\n");
+  EXPECT_NE(text.find("\n6.98 tap 1\n13.18 up W\n86400.00 tap F\n"), std::string::npos) << text;
+  const KeyScript back = parseKeyScriptWithSeed(text, "written.keys");
+  EXPECT_EQ(back.events, events);
+  EXPECT_EQ(back.seed, std::optional<uint64_t>(26));
+}
+
 TEST(KeyScript, FormatsEventsWithTheirTick) {
   EXPECT_EQ(formatKeyEvent(KeyEvent{123, KeyAction::kDown, 'W'}), "123 down W");
   EXPECT_EQ(formatKeyEvent(KeyEvent{0, KeyAction::kTap, '7'}), "0 tap 7");
