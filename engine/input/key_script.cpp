@@ -242,7 +242,10 @@ std::string formatKeyScript(const std::vector<KeyEvent>& events, uint64_t seed, 
   std::string text;
   for (size_t at = 0; !header.empty() && at <= header.size();) {
     const size_t end = std::min(header.find('\n', at), header.size());
-    text += "# " + header.substr(at, end - at) + "\n";
+    std::string comment = "# " + header.substr(at, end - at);
+    for (char& c : comment)  // kept readable as a script: no control bytes, within the line limit
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    text += comment.substr(0, kMaxKeyScriptLineLength) + "\n";
     at = end + 1;
   }
   text += "seed " + std::to_string(seed) + "\n";

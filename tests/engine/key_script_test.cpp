@@ -175,6 +175,10 @@ TEST(KeyScript, AWrittenScriptReadsBackAsTheSameEventsAndSeed) {
   const KeyScript back = parseKeyScriptWithSeed(text, "written.keys");
   EXPECT_EQ(back.events, events);
   EXPECT_EQ(back.seed, std::optional<uint64_t>(26));
+  // a header that would not read back as comments (a control byte, a 300-character path) is made readable
+  const std::string odd = formatKeyScript(events, 1, "runs/\x01" + std::string(300, 'x') + ".replay");
+  EXPECT_EQ(parseKeyScriptWithSeed(odd, "odd.keys").events, events);
+  EXPECT_EQ(odd.find('\x01'), std::string::npos);
 }
 
 TEST(KeyScript, FormatsEventsWithTheirTick) {
