@@ -2,7 +2,6 @@
 #include "engine/input/key_script.h"
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -179,8 +178,8 @@ KeyScript parseKeyScriptWithSeed(std::string_view text, const std::string& fileN
       if (!events.empty()) fail("the seed line must come before the first key event");
       const std::string_view n = fields[1];
       uint64_t value = 0;
-      const auto [rest, ec] = std::from_chars(n.data(), n.data() + n.size(), value);
-      if (n.empty() || !std::isdigit(static_cast<unsigned char>(n[0])) || ec != std::errc() || rest != n.data() + n.size())
+      const auto [rest, ec] = std::from_chars(n.data(), n.data() + n.size(), value);  // digits only: no sign, no "0x"
+      if (ec != std::errc() || rest != n.data() + n.size())
         fail("bad seed '" + std::string(n) + "' (expected a whole number from 0 to 18446744073709551615)");
       script.seed = value;
       script.seedLine = lineNumber;
@@ -251,8 +250,8 @@ std::string formatKeyScript(const std::vector<KeyEvent>& events, uint64_t seed, 
   text += "seed " + std::to_string(seed) + "\n";
   char line[64];
   for (const KeyEvent& e : events) {
-    std::snprintf(line, sizeof line, "%lld.%02lld %s %c\n", static_cast<long long>(e.tick / 100),
-                  static_cast<long long>(e.tick % 100), std::string(keyActionName(e.action)).c_str(), e.key);
+    std::snprintf(line, sizeof line, "%.2f %s %c\n", double(e.tick) * kTickSeconds,
+                  std::string(keyActionName(e.action)).c_str(), e.key);
     text += line;
   }
   return text;

@@ -73,8 +73,9 @@ KeyScript parseKeyScriptWithSeed(std::string_view text, const std::string& fileN
 std::string formatKeyEvent(const KeyEvent& event);
 
 /// A key script that parseKeyScriptWithSeed() reads back as `events` and `seed`: `header` as '#' comment lines
-/// (split at '\n', control bytes as '?', each cut to the 200-character line limit), a "seed <N>" line, then one "<seconds> <action> <key>" line per event (seconds with two
-/// decimals: ticks are 0.01 s). Events must be in tick order and valid as a script (as a replay's are).
+/// (split at '\n', control bytes as '?', each cut to the 200-character line limit), a "seed <N>" line, then one
+/// "<seconds> <action> <key>" line per event (two decimals: a tick is 0.01 s). Events must be in tick order and
+/// valid as a script (as a replay's are).
 std::string formatKeyScript(const std::vector<KeyEvent>& events, uint64_t seed, const std::string& header);
 
 }  // namespace engine
