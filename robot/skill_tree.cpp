@@ -283,7 +283,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     g.randomisation = t->get("randomisation") != nullptr;
     if (const toml::table* c = r.table(*t, "commands", false, where)) {
       r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "pelvis_height", "zero_probability", "resample_s",
-                       "resample_jitter", "ramp", "line_hold"},
+                       "resample_jitter", "ramp", "line_hold", "steer"},
                  where + ".commands");
       s.commands.amplitude = r.range(*c, "amplitude", {}, 0, 1, where + ".commands");
       s.commands.amplitudeRate = r.number(*c, "amplitude_rate", 0, 0, 100, where + ".commands");
@@ -300,6 +300,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.commands.resampleSeconds = r.number(*c, "resample_s", 5, 0.1, 1000, where + ".commands");
       s.commands.resampleJitter = r.number(*c, "resample_jitter", 0, 0, 0.9, where + ".commands");
       s.commands.lineHold = r.number(*c, "line_hold", 0, 0, 5, where + ".commands");
+      s.commands.steer = r.number(*c, "steer", 0, 0, 2, where + ".commands");
       if (const toml::node* rp = c->get("ramp")) {
         const std::optional<bool> b = rp->is_boolean() ? rp->value<bool>() : std::nullopt;
         if (!b) throw Error(located(path, r.line(*rp), where + ".commands.ramp must be true or false"));

@@ -88,6 +88,10 @@ struct CommandDef {
   /// had when it started moving; > 0 also leans that heading back toward the line it started on, by
   /// atan(lineHold x offset) with the offset in metres
   double lineHold = 0.0;
+  /// > 0: each forward or sideways draw also turns at U(-steer, steer) rad/s, on top of the ramp's interlock and
+  /// unramped, as play's heading hold turns the robot while W is held (game::Session::holdHeading); 0: the
+  /// interlock alone, so a skill never sees a turn while it moves
+  double steer = 0.0;
 };
 
 struct RandomisationDef {

@@ -62,6 +62,8 @@ struct SkillEnv::Env {
   int finishedLength = 0;
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
   robot::SkillCommand target;  // the latest draw, which a ramped velocity command is heading for
+  double steer = 0;    // [commands] steer: the draw's turn while moving, on top of the interlocked command
+  double keysWz = 0;   // the interlocked (keys') yaw rate, without the steer
   int startStep = 0;  // rollout step the episode began at (curriculum)
   engine::BallId ball = -1;             // the kick's ball (-1: none)
   engine::BallState ballState;
@@ -134,9 +136,22 @@ void SkillEnv::sampleCommand(Env& e) {
     e.command.amplitude = c.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
   }
   robot::takeCommandDraw(now, c.ramp, &e.command, &e.target);
+  if (c.steer > 0) {  // drawn only when asked for, so other skills' streams are unchanged
+    const double turn = c.steer * (2.0 * unit(e.rng) - 1.0);
+    e.steer = e.target.vx != 0.0 || e.target.vy != 0.0 ? turn : 0.0;
+    if (!c.ramp) e.keysWz = e.target.wz;  // (ramped: the keys' yaw rate goes on from where it was)
+    steerCommand(e);
+  }
   e.anchor = e.sensors.basePosition.head<2>();
   const double stretch = c.resampleJitter > 0 ? 1.0 + c.resampleJitter * (2.0 * unit(e.rng) - 1.0) : 1.0;
   e.nextCommandTick = e.tick + std::max(1, int(std::lround(c.resampleSeconds * stretch / engine::kTickSeconds)));
+}
+
+// [commands] steer: while the command moves the robot, its yaw rate is the keys' (0 under the interlock) plus the
+// draw's turn, as play's heading hold adds a turn to W (game::Session::holdHeading)
+void SkillEnv::steerCommand(Env& e) const {
+  e.command.wz = e.keysWz;
+  if (e.command.vx != 0.0 || e.command.vy != 0.0) e.command.wz += e.steer;
 }
 
 void SkillEnv::resetEnv(Env& e, bool allowHandover) {
@@ -186,6 +201,7 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   // does in play across a switch (W held from the walk into the run: from the walk's command up to the run's)
   e.command = robot::SkillCommand{};
   if (skill_.commands.ramp) e.command.vx = handedOver.vx, e.command.vy = handedOver.vy, e.command.wz = handedOver.wz;
+  e.keysWz = e.command.wz, e.steer = 0;
   sampleCommand(e);
   if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
   const double pushEvery = r.pushEverySeconds;
@@ -313,8 +329,10 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     }
     if (skill_.commands.ramp) {
       const engine::CommandLimits keys;  // the keyboard's rates
+      if (skill_.commands.steer > 0) e.command.wz = e.keysWz;  // the ramp sees the keys' command, not the steer
       engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
                                   &e.command.vy, &e.command.wz);
+      if (skill_.commands.steer > 0) e.keysWz = e.command.wz, steerCommand(e);
     }
     // control: targets from action + prior, then the physics substeps with PD every substep
     e.phase.advance(skill_.prior, e.command);

@@ -105,6 +105,7 @@ class SkillEnv final : public VecEnv {
   void resetEnv(Env& e, bool allowHandover = true);
   bool handOver(Env& e, robot::SkillCommand* commandAtSwitch);
   void sampleCommand(Env& e);
+  void steerCommand(Env& e) const;
   void observe(const Env& e, float* out) const;
   int lessonCount() const;
   double advanceAt() const;

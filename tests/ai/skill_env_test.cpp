@@ -304,6 +304,40 @@ TEST(SkillEnv, RampedVelocityCommandsMoveAtTheKeyboardRatesOneAxisAtATime) {
   EXPECT_GT(moving, 700);  // the commands did move
 }
 
+// [commands] steer: while W moves the robot, play's heading hold adds a turn of at most 0.2 rad/s; a steered skill
+// meets such turns in training, on top of the keys' interlocked and ramped command
+TEST(SkillEnv, ASteeredForwardCommandTurnsAtItsDrawWhileTheRampKeepsItsRates) {
+  robot::SkillDef walk = *fixture().tree.find("walk");
+  walk.commands.ramp = true;
+  walk.commands.zeroProbability = 0.0;
+  walk.commands.resampleSeconds = 2.0;
+  walk.commands.steer = 0.3;
+  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, {4, 1, false});
+  Eigen::MatrixXf obs;
+  env.reset(5, &obs);
+  Eigen::MatrixXf previous = obs.middleRows(robot::kObsCommand, 3);
+  ai::StepResult r;
+  int steered = 0, moving = 0;
+  for (int s = 0; s < 700; ++s) {
+    env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 4), &r);
+    const Eigen::MatrixXf now = r.observations.middleRows(robot::kObsCommand, 3);
+    for (int i = 0; i < 4; ++i) {
+      if (r.terminated[size_t(i)] || r.truncated[size_t(i)]) continue;
+      EXPECT_LE(std::abs(now(0, i) - previous(0, i)), 0.02f + 1e-5f);  // vx still ramps at 2 m/s^2
+      EXPECT_LE(std::abs(now(1, i) - previous(1, i)), 0.02f + 1e-5f);  // vy
+      EXPECT_LE(now(0, i) != 0.0f && now(1, i) != 0.0f ? 1 : 0, 0);    // forward and sideways: still one at a time
+      if (now(0, i) != 0.0f || now(1, i) != 0.0f) {
+        ++moving;
+        EXPECT_LE(std::abs(now(2, i)), 0.3f + 1e-5f);  // moving: the keys' turn is 0, the steer within +-0.3
+        steered += now(2, i) != 0.0f;
+      }
+    }
+    previous = now;
+  }
+  EXPECT_GT(moving, 700);
+  EXPECT_GT(steered, moving / 2);  // turning while moving, which the interlock alone never gives
+}
+
 TEST(SkillEnv, JitteredCommandIntervalsVaryWithinTheirBand) {
   robot::SkillDef walk = *fixture().tree.find("walk");
   walk.commands.zeroProbability = 0.0;

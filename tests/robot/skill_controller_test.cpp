@@ -261,6 +261,9 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string badRamp = walk + "[skill.walk.commands]\nvx = [0, 1]\nramp = 2\n";
   EXPECT_NE(errorOf(badRamp).find("t.toml:21: skill.walk.commands.ramp must be true or false"), std::string::npos)
       << errorOf(badRamp);
+  const std::string badSteer = walk + "[skill.walk.commands]\nvx = [0, 1]\nsteer = 3\n";  // 3 rad/s: no heading hold
+  EXPECT_NE(errorOf(badSteer).find("t.toml:21:"), std::string::npos) << errorOf(badSteer);
+  EXPECT_NE(errorOf(badSteer).find("steer"), std::string::npos) << errorOf(badSteer);
   const std::string rootHandover = walk + "[skill.walk.training]\nhandover = 0.5\n";  // the root has no parent
   EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
       << errorOf(rootHandover);
