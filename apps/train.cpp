@@ -90,10 +90,10 @@ CardDrivers loadCardDrivers(const Loaded& l, const std::string& modelsDir) {
     return d;
   }
   if (l.skill->card.kind == robot::CardDef::Kind::PushUp || l.skill->card.kind == robot::CardDef::Kind::Crawl)
-    return {drivingSkill(l, l.skill->parent, modelsDir, "it lies down first"), {}};
+    return {drivingSkill(l, l.skill->parent, modelsDir, "it lies down first"), {}, {}};
   if (l.skill->card.kind != robot::CardDef::Kind::StandUp) return {};
   return {drivingSkill(l, l.skill->parent, modelsDir, "it lies down first"),
-          drivingSkill(l, l.skill->up, modelsDir, "it takes over once standing")};
+          drivingSkill(l, l.skill->up, modelsDir, "it takes over once standing"), {}};
 }
 
 // runs the skill's card, whichever kind
@@ -143,7 +143,9 @@ int runTrain(const TrainOptions& o) {
   if (config.bufferSize % envs != 0)
     throw engine::Error("--envs " + std::to_string(envs) + " must divide the PPO buffer size " + std::to_string(config.bufferSize));
 
-  ai::SkillEnvOptions envOptions{envs, o.threads, true};
+  ai::SkillEnvOptions envOptions;
+  envOptions.numEnvs = envs;
+  envOptions.threads = o.threads;
   std::shared_ptr<ai::LoadedPolicy> handoverPolicy;
   if (skill.handover > 0) {  // episodes that start under the parent's (or handover_from's) shipped model
     const robot::SkillDef* parent = l.tree.find(skill.handoverFrom.empty() ? skill.parent : skill.handoverFrom);

@@ -229,8 +229,8 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
               throw Error(located(path, r.line(*rp), where + ".prior.repeat: the last key's t must be an even number of "
                                                          "hundredths of a second, at least 0.02 (the phase observation "
                                                          "goes once round per cycle)"));
-            for (double v : s.prior.keyframes.back().offset)
-              if (std::abs(v) > 0.05)
+            for (double x : s.prior.keyframes.back().offset)
+              if (std::abs(x) > 0.05)
                 throw Error(located(path, r.line(*rp), where + ".prior.repeat: the last key must be within 0.05 rad of the "
                                                            "default pose (the cycle starts over from it)"));
             s.prior.cycleTicks = lastTick;
@@ -395,14 +395,14 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         if (!l) return;
         const toml::array* a = l->as_array();
         if (!a || a->empty()) throw Error(located(path, r.line(*l), w + "." + key + " must be a non-empty list of numbers"));
-        for (const toml::node& v : *a) out->push_back(r.number(v, w + "." + key, lo, hi));
+        for (const toml::node& x : *a) out->push_back(r.number(x, w + "." + key, lo, hi));
       };
       std::vector<double> t1;
       list("vx_max", 0.01, 10, &d.vxMax);
       list("amplitude_max", 0.0, 1.0, &d.amplitudeMax);
       list("T1", 1, 1000, &t1);
       list("stride", 0, 1, &d.stride);
-      for (double v : t1) d.halfPeriodTicks.push_back(int(std::lround(v)));
+      for (double x : t1) d.halfPeriodTicks.push_back(int(std::lround(x)));
       const int line = r.line(*ct);
       if (d.vxMax.empty() == d.amplitudeMax.empty())
         throw Error(located(path, line, w + " needs one of vx_max = [the forward command's top, per lesson] or "
@@ -420,11 +420,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                                             std::to_string(s.commands.amplitude.hi) + ")"));
       if (!d.vxMax.empty() && std::abs(d.vxMax.back() - s.commands.vx.hi) > 1e-9)
         throw Error(located(path, line, w + ".vx_max must end at the commands' vx top (" + std::to_string(s.commands.vx.hi) + ")"));
-      for (double v : d.amplitudeMax)
-        if (v < s.commands.amplitude.lo)
+      for (double x : d.amplitudeMax)
+        if (x < s.commands.amplitude.lo)
           throw Error(located(path, line, w + ".amplitude_max: every lesson's top must be at least the commands' amplitude bottom"));
-      for (double v : d.vxMax)
-        if (v <= s.commands.vx.lo)
+      for (double x : d.vxMax)
+        if (x <= s.commands.vx.lo)
           throw Error(located(path, line, w + ".vx_max: every lesson's top must be above the commands' vx bottom"));
       if (!d.halfPeriodTicks.empty() && d.halfPeriodTicks.back() != s.prior.halfPeriodTicks)
         throw Error(located(path, line, w + ".T1 must end at the prior's T1 (" + std::to_string(s.prior.halfPeriodTicks) + ")"));

@@ -22,8 +22,17 @@ const Fixture& fixture() {
   return f;
 }
 
+// environments without handover episodes (no parent policy), n of them on `threads` threads
+ai::SkillEnvOptions envOptions(int n, int threads, bool randomise) {
+  ai::SkillEnvOptions o;
+  o.numEnvs = n;
+  o.threads = threads;
+  o.randomise = randomise;
+  return o;
+}
+
 std::vector<float> rollout(int threads, uint64_t seed, int steps) {
-  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, {6, threads, true});
+  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, envOptions(6, threads, true));
   Eigen::MatrixXf obs;
   env.reset(seed, &obs);
   std::vector<float> trace(obs.data(), obs.data() + obs.size());
@@ -46,7 +55,7 @@ TEST(SkillEnv, SameSeedGivesTheSameRolloutOnOneOrTwoThreads) {
 }
 
 TEST(SkillEnv, ObservationFollowsTheSharedLayout) {
-  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, {2, 1, false});
+  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, envOptions(2, 1, false));
   Eigen::MatrixXf obs;
   env.reset(1, &obs);
   ASSERT_EQ(obs.rows(), robot::kObservationSize);
@@ -57,7 +66,7 @@ TEST(SkillEnv, ObservationFollowsTheSharedLayout) {
 }
 
 TEST(SkillEnv, RewardIsTheWeightedSumOfItsTermsClippedAtZero) {
-  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, {1, 1, true});
+  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, envOptions(1, 1, true));
   Eigen::MatrixXf obs;
   env.reset(3, &obs);
   ai::StepResult r;
@@ -75,7 +84,7 @@ TEST(SkillEnv, RewardIsTheWeightedSumOfItsTermsClippedAtZero) {
 
 TEST(SkillEnv, AFallTerminatesAndResets) {
   // large constant actions throw the robot over within a few seconds
-  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, {2, 1, false});
+  ai::SkillEnv env(fixture().model, *fixture().tree.find("walk"), fixture().tree.path, envOptions(2, 1, false));
   Eigen::MatrixXf obs;
   env.reset(5, &obs);
   ai::StepResult r;
@@ -108,7 +117,7 @@ TEST(Curriculum, LessonAdvancesAtTheRolloutEndWhenTheSmoothedReturnPassesTheBarA
   robot::SkillDef stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 0.2;  // 20-tick episodes: many finish quickly
   stairs.terrain.advanceAt = 0.01;          // a zero policy still earns a little (the total is clipped at 0)
-  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, {4, 1, false});
+  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
   EXPECT_EQ(env.curriculumLesson(), 0);
   EXPECT_DOUBLE_EQ(env.stepHeight(), stairs.terrain.lessons[0]);
   Eigen::MatrixXf obs;
@@ -124,7 +133,7 @@ TEST(Curriculum, LessonAdvancesAtTheRolloutEndWhenTheSmoothedReturnPassesTheBarA
   EXPECT_DOUBLE_EQ(env.stepHeight(), 0.15);
   EXPECT_NE(env.curriculumNote().find("lesson 4/4"), std::string::npos) << env.curriculumNote();
 
-  ai::SkillEnv resumed(fixture().model, stairs, fixture().tree.path, {4, 1, false});
+  ai::SkillEnv resumed(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
   resumed.loadState(env.saveState());
   EXPECT_EQ(resumed.curriculumLesson(), 3);
   EXPECT_EQ(resumed.saveState(), env.saveState());
@@ -136,7 +145,7 @@ TEST(Curriculum, EpisodesLongerThanTheRolloutCountForWhatTheyPlayed) {
   robot::SkillDef stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 20.0;
   stairs.terrain.advanceAt = 0.01;
-  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, {4, 1, false});
+  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
   zeroRollout(&env, 150);  // 1.5 s: the zero policy stands; 4 episodes, not yet two per environment
   EXPECT_EQ(env.curriculumLesson(), 0) << env.curriculumNote();
   zeroRollout(&env, 150, 2);
@@ -154,7 +163,7 @@ TEST(Curriculum, ScoreIsTheReturnPerTickEachEpisodeCouldPlayAveragedOverTheLesso
   stairs.termination.episodeSeconds = 1.5;
   stairs.terrain.advanceAt = 1e9;  // never: only the score is checked
   const int n = 3, steps = 260, limit = 150;
-  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, {n, 1, false});
+  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(n, 1, false));
   Eigen::MatrixXf obs;
   env.reset(4, &obs);
   ai::StepResult r;
@@ -197,7 +206,7 @@ TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
   run.curriculum.halfPeriodTicks = {40, 35, run.prior.halfPeriodTicks};
   run.curriculum.advanceAt = 0.01;
   run.commands.resampleSeconds = 0.05;  // a new draw every 5 ticks: many draws per lesson
-  ai::SkillEnv env(fixture().model, run, fixture().tree.path, {4, 1, false});
+  ai::SkillEnv env(fixture().model, run, fixture().tree.path, envOptions(4, 1, false));
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.vx.hi, 1.0);
   EXPECT_EQ(env.lessonSkill().prior.halfPeriodTicks, 40);
   Eigen::MatrixXf obs;
@@ -221,7 +230,7 @@ TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
   EXPECT_EQ(env.lessonSkill().prior.halfPeriodTicks, run.prior.halfPeriodTicks);
   EXPECT_NE(env.curriculumNote().find("forward commands up to 2.00 m/s"), std::string::npos) << env.curriculumNote();
   // a resumed environment trains the lesson it was saved in
-  ai::SkillEnv resumed(fixture().model, run, fixture().tree.path, {4, 1, false});
+  ai::SkillEnv resumed(fixture().model, run, fixture().tree.path, envOptions(4, 1, false));
   resumed.loadState(env.saveState());
   EXPECT_EQ(resumed.lessonSkill().prior.halfPeriodTicks, run.prior.halfPeriodTicks);
 }
@@ -231,7 +240,7 @@ TEST(Curriculum, AmplitudeLessonsRaiseTheAmplitudeTop) {
   oneLeg.curriculum.amplitudeMax = {0.6, oneLeg.commands.amplitude.hi};
   oneLeg.curriculum.advanceAt = 0.01;
   oneLeg.handover = 0;  // episodes from the spawn (a handover needs the walk's policy)
-  ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, {4, 1, false});
+  ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, envOptions(4, 1, false));
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.hi, 0.6);
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.amplitude.lo, oneLeg.commands.amplitude.lo);
   zeroRollout(&env, 120);
@@ -245,7 +254,7 @@ TEST(Curriculum, NoLessonChangeBelowTheBar) {
   robot::SkillDef stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 0.2;
   stairs.terrain.advanceAt = 100.0;  // unreachable
-  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, {4, 1, false});
+  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
   Eigen::MatrixXf obs;
   env.reset(1, &obs);
   ai::StepResult r;
@@ -259,7 +268,7 @@ TEST(SkillEnv, RampedAmplitudeMovesAtMostItsRatePerTick) {
   robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
   oneLeg.handover = 0;  // episodes from the spawn (a handover needs the walk's policy)
   ASSERT_DOUBLE_EQ(oneLeg.commands.amplitudeRate, 1.0);  // the R / F keys' rate: 0.01 per tick
-  ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, {2, 1, false});
+  ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, envOptions(2, 1, false));
   Eigen::MatrixXf obs;
   env.reset(3, &obs);
   const int slot = robot::kObsCommand + 3;  // vx, vy, wz, amplitude
@@ -281,7 +290,7 @@ TEST(SkillEnv, RampedVelocityCommandsMoveAtTheKeyboardRatesOneAxisAtATime) {
   walk.commands.ramp = true;
   walk.commands.zeroProbability = 0.0;
   walk.commands.resampleSeconds = 2.0;  // several changes within the run
-  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, {4, 1, false});
+  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(4, 1, false));
   Eigen::MatrixXf obs;
   env.reset(5, &obs);
   Eigen::MatrixXf previous = obs.middleRows(robot::kObsCommand, 3);
@@ -312,7 +321,7 @@ TEST(SkillEnv, ASteeredForwardCommandTurnsAtItsDrawWhileTheRampKeepsItsRates) {
   walk.commands.zeroProbability = 0.0;
   walk.commands.resampleSeconds = 2.0;
   walk.commands.steer = 0.3;
-  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, {4, 1, false});
+  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(4, 1, false));
   Eigen::MatrixXf obs;
   env.reset(5, &obs);
   Eigen::MatrixXf previous = obs.middleRows(robot::kObsCommand, 3);
@@ -346,7 +355,7 @@ TEST(SkillEnv, JitteredCommandIntervalsVaryWithinTheirBand) {
   walk.termination.episodeSeconds = 100.0;
   walk.termination.maxTiltDegrees = 180.0;  // nothing ends the episode: only command changes are watched
   walk.termination.minHeight = -10.0;
-  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, {1, 1, false});
+  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(1, 1, false));
   Eigen::MatrixXf obs;
   env.reset(9, &obs);
   Eigen::VectorXf previous = obs.col(0).segment(robot::kObsCommand, 3);
@@ -381,7 +390,7 @@ TEST(SkillEnv, HandoverEpisodesStartWithTheParentsFilteredAction) {
   Eigen::VectorXf crouch = Eigen::VectorXf::Zero(robot::kActionSize);
   for (int leg : {0, 6}) crouch(leg + 0) = -0.4f, crouch(leg + 3) = 0.8f, crouch(leg + 4) = -0.4f;
   std::atomic<int> calls{0};
-  ai::SkillEnvOptions options{4, 2, false};
+  ai::SkillEnvOptions options = envOptions(4, 2, false);
   options.parent = &walk;
   options.parentPolicy = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
     ++calls;
@@ -419,7 +428,7 @@ TEST(SkillEnv, HandoverFromAGrandparentRoutesThroughTheSkillBetweenForItsTime) {
     deeper(leg + 0) = -0.5f, deeper(leg + 3) = 1.0f, deeper(leg + 4) = -0.5f;
   }
   std::atomic<int> walkCalls{0}, squatCalls{0};
-  ai::SkillEnvOptions options{4, 2, false};
+  ai::SkillEnvOptions options = envOptions(4, 2, false);
   options.parent = &walk;
   options.parentPolicy = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
     ++walkCalls;
@@ -450,7 +459,7 @@ TEST(SkillEnv, ARampedCommandGoesOnFromTheHandoversAsTheKeysDoInPlay) {
   ASSERT_TRUE(run.commands.ramp);
   run.handoverSeconds = {0.6, 0.6};
   run.handoverVx = {1.0, 1.0};
-  ai::SkillEnvOptions options{4, 2, false};
+  ai::SkillEnvOptions options = envOptions(4, 2, false);
   options.parent = &walk;
   options.parentPolicy = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
     *a = Eigen::MatrixXf::Zero(robot::kActionSize, obs.cols());
@@ -470,7 +479,7 @@ TEST(SkillEnv, ABallAbsentShareStartsThatShareOfEpisodesWithoutTheBall) {
   kick.handover = 0;
   auto ballless = [&](double absent) {
     kick.ball.absent = absent;
-    ai::SkillEnv env(fixture().model, kick, fixture().tree.path, {40, 2, false});
+    ai::SkillEnv env(fixture().model, kick, fixture().tree.path, envOptions(40, 2, false));
     Eigen::MatrixXf obs;
     env.reset(3, &obs);
     int none = 0;
