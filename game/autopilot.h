@@ -63,6 +63,7 @@ class Autopilot {
   static const char* modeName(Mode m);
 
  private:
+  void backOffBall(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
   void enter(int64_t tick, Mode m, char skillKey, bool forward, std::vector<engine::KeyEvent>* out);
   void hold(int64_t tick, char key, bool down, std::vector<engine::KeyEvent>* out);
   void releaseAll(int64_t tick, std::vector<engine::KeyEvent>* out);
@@ -72,8 +73,9 @@ class Autopilot {
              std::vector<engine::KeyEvent>* out);
   /// Approach mode: short steps forward (W) or back (S) until the ball is kBallKick ahead; true once there.
   bool approach(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
-  /// The ball where the kick's card puts it (kBallKick ahead, kBallSide to the right, facing +X), within tolerances.
-  static bool atKickSpot(const Cues& c);
+  /// The ball where the kick's card puts it (kBallKick ahead, kBallSide to the right, in the pelvis's heading
+  /// frame), within tolerances, facing +X within yawTol.
+  static bool atKickSpot(const Cues& c, double yawTol);
   /// Align mode toward the kick's spot beside the ball (then Approach).
   void lineUpWithBall(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
 

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace {
 
 std::string keys(const std::vector<engine::KeyEvent>& ev) {
@@ -203,6 +205,31 @@ TEST(Autopilot, KicksOnlyFromTheCardsSpot) {
   EXPECT_EQ(until(game::Autopilot::Mode::Walk), "tap 0;");
 }
 
+TEST(Autopilot, AfterTheStandItKicksTurnedUpTo0p25RadWithTheBallWhereTheCardPutsItInItsFrame) {
+  // the one-leg stand turned the robot 0.2 rad left: the ball, 0.30 m ahead and 0.12 m right of the pelvis in its
+  // heading frame, is at (0.30 cos 0.2 + 0.12 sin 0.2, 0.30 sin 0.2 - 0.12 cos 0.2) = (0.318, -0.058) in the world's
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.ballAhead = 0.32, c.ballY = -0.12;  // at the spot, facing +X
+  int64_t t = 1;
+  for (const int64_t end = t + 2000; a.mode() != game::Autopilot::Mode::Balance && t < end; ++t) a.decide(t, c);
+  ASSERT_EQ(a.mode(), game::Autopilot::Mode::Balance);
+  const auto turnedBy = [&](double yaw) {
+    c.yaw = yaw, c.y = 0.0;
+    c.ballAhead = 0.30 * std::cos(yaw) + 0.12 * std::sin(yaw);
+    c.ballY = 0.30 * std::sin(yaw) - 0.12 * std::cos(yaw);
+  };
+  turnedBy(0.2);
+  game::Autopilot b = a;  // the same stand, turned further: 0.3 rad
+  const int64_t start = t;
+  for (; a.mode() == game::Autopilot::Mode::Balance && t < start + 1000; ++t) a.decide(t, c);
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Kick);
+  turnedBy(0.3);
+  for (t = start; b.mode() == game::Autopilot::Mode::Balance && t < start + 1000; ++t) b.decide(t, c);
+  EXPECT_EQ(b.mode(), game::Autopilot::Mode::Walk);  // lines up again
+}
+
 TEST(Autopilot, ABallLeftBesideItIsReachedAgainFromBehind) {
   // a kick that stays up and sends the ball sideways: the ball lies beside the pelvis, 0.3 m to the right
   game::Autopilot a;
@@ -219,6 +246,24 @@ TEST(Autopilot, ABallLeftBesideItIsReachedAgainFromBehind) {
   c.ballAhead = 0.75;  // ahead again: line up with it as before a first kick
   EXPECT_EQ(keys(a.decide(301, c)), "up S;");
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
+}
+
+TEST(Autopilot, ALineUpThatWalkedPastTheBallBacksOffInsteadOfStepping) {
+  // the side steps of a line-up drift forward: lined up, the ball is 0.4 m behind the pelvis. Short steps back
+  // (the approach's) cannot get behind it; it steps clear and backs up as for a ball left beside it
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.ballAhead = 0.75, c.ballY = -0.12;  // pelvis at y 0 already: lined up
+  int64_t t = 1;
+  for (const int64_t end = t + 2000; a.mode() != game::Autopilot::Mode::Approach && t < end; ++t) a.decide(t, c);
+  ASSERT_EQ(a.mode(), game::Autopilot::Mode::Approach);
+  c.ballAhead = -0.4;
+  EXPECT_EQ(keys(a.decide(t++, c)), "");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);  // to y = +0.33 (0.45 m left of the ball), then S
+  settlesThenStepsLeftTo(a, c, 0.33);
+  EXPECT_EQ(keys(a.decide(200, c)), "down S;");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::BackUp);
 }
 
 TEST(Autopilot, AfterARespawnItReleasesEveryKeyAndWalksOn) {
