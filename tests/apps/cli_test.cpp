@@ -100,12 +100,12 @@ TEST(Cli, WalkingWithWHeldKeepsToTheLineItStartedOn) {
 }
 
 TEST(Cli, TheShippedScriptWinsTheMarioCourse) {
-  // levels/mario/win.keys: the keys the autopilot pressed at seed 26; every stage in order, both question boxes hit
+  // levels/mario/win.keys: the keys the autopilot pressed at seed 44; every stage in order, both question boxes hit
   // from below by a jump, the ball in the goal
   // (the script's seed line gives the seed: no --seed needed)
   const CliRun r = run("play levels/mario --keys win.keys --expect win");
   EXPECT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("seed       26\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("seed       44\n"), std::string::npos) << r.out;
   for (const char* stage : {"walk->run at", "walk->stairs at", "walk->prone at", "prone->crawl at", "crawl->standup at",
                             "squat->jump at", "question box at x = 32.00 hit", "question box at x = 33.50 hit",
                             "one_leg->kick at", "won: the ball is in the goal"})
@@ -161,7 +161,7 @@ TEST(Cli, TheCommittedMarioReplayVerifies) {
   // code changed the run, it names the first tick that differs
   const CliRun r = run("replay levels/mario/win.replay --verify");
   EXPECT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("identical: 209 state hashes over 10453 ticks match"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("identical: 256 state hashes over 12817 ticks match"), std::string::npos) << r.out;
 }
 
 TEST(Cli, KeySixKicksTheBallIntoTheGoalFromAStandingStart) {
@@ -190,7 +190,7 @@ TEST(Cli, FromARunTheProneKeyFirstSlowsToAStopThroughTheWalk) {
   // the walk took over at the run's speed and fell braking in 3 of 4 seeds)
   const CliRun r = run("play levels/flat --keys run_then_prone.keys --seconds 14 --expect alive");
   EXPECT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("run->walk at 7.00 s"), std::string::npos) << r.out;  // 1 s of braking after the key
+  EXPECT_NE(r.out.find("run->walk at 7.10 s"), std::string::npos) << r.out;  // 2.2 m/s braked at 2 m/s^2: 1.1 s
   EXPECT_NE(r.out.find("walk->prone at 8."), std::string::npos) << r.out;
 }
 

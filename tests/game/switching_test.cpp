@@ -190,8 +190,8 @@ TEST(Session, AStillSkillWaitsUntilTheCommandHasRampedToZeroAndTheRobotRests) {
 }
 
 TEST(Session, ASlowerSkillTakesOverOnceTheCommandHasRampedToItsTopSpeed) {
-  // run (no gait, zero action: the robot stands) with W held for 1 s: vx = 2.0 m/s, the run's top. The walk key
-  // brakes the run's command at the keys' 0.02 m/s per tick to the walk's top, 1.2 m/s: 40 ticks. The standing
+  // run (no gait, zero action: the robot stands) with W held for 1.2 s: vx = 2.2 m/s, the run's top (reached after
+  // 1.1 s). The walk key brakes the run's command at the keys' 0.02 m/s per tick to the walk's top, 1.2 m/s: 50 ticks. The standing
   // pelvis is within the 0-1.2 m/s both train at but more than kTargetSlack below the command, so the walk takes
   // over at the longest wait, 250 ticks.
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
@@ -200,7 +200,7 @@ TEST(Session, ASlowerSkillTakesOverOnceTheCommandHasRampedToItsTopSpeed) {
   robot::SkillDef walk = *shipped.find("walk"), run = *shipped.find("run");
   walk.prior.kind = robot::PriorDef::Kind::None;
   run.prior.kind = robot::PriorDef::Kind::None;
-  ASSERT_DOUBLE_EQ(run.commands.vx.hi, 2.0);
+  ASSERT_DOUBLE_EQ(run.commands.vx.hi, 2.2);
   ASSERT_DOUBLE_EQ(walk.commands.vx.hi, 1.2);
   ASSERT_TRUE(robot::switchWaits(run, walk));
   ASSERT_TRUE(robot::switchWaits(walk, run));  // the walk may back up; the run never does
@@ -209,15 +209,15 @@ TEST(Session, ASlowerSkillTakesOverOnceTheCommandHasRampedToItsTopSpeed) {
   set.skills.push_back({run, zero});
   game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
   s.step(engine::parseKeyScript("0.00 tap 1\n0.00 down W\n", "k"));
-  for (int i = 0; i < 109; ++i) s.step({});
+  for (int i = 0; i < 119; ++i) s.step({});
   ASSERT_EQ(s.activeSkillName(), "run");
-  EXPECT_NEAR(s.command().vx, 2.0, 1e-9);
+  EXPECT_NEAR(s.command().vx, 2.2, 1e-9);
   const int64_t key = s.tick();
   s.step({{key, engine::KeyAction::kTap, '0'}});
   while (s.activeSkillName() != "walk" && s.tick() < key + 300) s.step({});
   ASSERT_EQ(s.activeSkillName(), "walk");
   EXPECT_EQ(s.telemetry().switches.back().tick - key, robot::kMaxSlowWaitTicks);
-  // back to the run with W still held: the keys' 2.0 m/s, clamped to the band, is 1.2 again: the longest wait
+  // back to the run with W still held: the keys' 2.2 m/s, clamped to the band, is 1.2 again: the longest wait
   const int64_t back = s.tick();
   s.step({{back, engine::KeyAction::kTap, '1'}});
   while (s.activeSkillName() != "run" && s.tick() < back + 300) s.step({});
