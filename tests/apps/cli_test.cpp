@@ -110,6 +110,17 @@ TEST(Cli, TheShippedScriptWinsTheMarioCourse) {
                             "squat->jump at", "question box at x = 32.00 hit", "question box at x = 33.50 hit",
                             "one_leg->kick at", "won: the ball is in the goal"})
     EXPECT_NE(r.out.find(stage), std::string::npos) << stage << "\n" << r.out;
+  // the paper's switch continuity (issue 6): walk -> run when the ghost comes, from about 0.8 m/s to >= 1.8 m/s
+  // 2-3 s later, with no spike: the 0.1 s-smoothed forward speed changes by at most 5 m/s^2 (half a g; the W key's
+  // ramp asks for 2) from 0.5 s before the switch to 3 s after
+  const size_t at = r.out.find("switch     walk->run at");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  double t = 0, before = 0, after = 0, peak = 0;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at, "switch     walk->run at %lf s: forward speed %lf -> %lf m/s, peak acceleration %lf",
+                        &t, &before, &after, &peak), 4) << r.out;
+  EXPECT_NEAR(before, 0.8, 0.1);
+  EXPECT_GE(after, 1.8);
+  EXPECT_LE(peak, 5.0);
 }
 
 TEST(Cli, AKeyScriptsSeedLinePlaysAsTheSameSeedGivenByOption) {
