@@ -28,6 +28,13 @@ void settlesThenStepsLeftTo(game::Autopilot& a, game::Cues& c, double y) {
   c.commandVy = 0;
 }
 
+// decides tick after tick (at rest) from tick *t until the mode is m (at most 2000 ticks); the keys pressed
+std::string decideUntil(game::Autopilot& a, const game::Cues& c, int64_t* t, game::Autopilot::Mode m) {
+  std::string pressed;
+  for (const int64_t end = *t + 2000; a.mode() != m && *t < end; ++*t) pressed += keys(a.decide(*t, c));
+  return pressed;
+}
+
 }  // namespace
 
 TEST(Autopilot, StartsWalkingForward) {
@@ -187,11 +194,7 @@ TEST(Autopilot, KicksOnlyFromTheCardsSpot) {
   game::Cues c;
   c.ballAhead = 0.75, c.ballY = -0.12;  // pelvis at y 0 already: lined up
   int64_t t = 1;
-  auto until = [&](game::Autopilot::Mode m) {  // decides tick after tick (at rest) until the mode is m
-    std::string pressed;
-    for (const int64_t end = t + 2000; a.mode() != m && t < end; ++t) pressed += keys(a.decide(t, c));
-    return pressed;
-  };
+  auto until = [&](game::Autopilot::Mode m) { return decideUntil(a, c, &t, m); };
   a.decide(t++, c);
   EXPECT_EQ(until(game::Autopilot::Mode::Approach), "");  // nothing to turn or step
   c.ballAhead = 0.32, c.y = 0.1;  // there, but 0.1 m left of the line-up (a side step that overshot, a ball that rolled)
@@ -213,7 +216,7 @@ TEST(Autopilot, AfterTheStandItKicksTurnedUpTo0p25RadWithTheBallWhereTheCardPuts
   game::Cues c;
   c.ballAhead = 0.32, c.ballY = -0.12;  // at the spot, facing +X
   int64_t t = 1;
-  for (const int64_t end = t + 2000; a.mode() != game::Autopilot::Mode::Balance && t < end; ++t) a.decide(t, c);
+  decideUntil(a, c, &t, game::Autopilot::Mode::Balance);
   ASSERT_EQ(a.mode(), game::Autopilot::Mode::Balance);
   const auto turnedBy = [&](double yaw) {
     c.yaw = yaw, c.y = 0.0;
@@ -256,7 +259,7 @@ TEST(Autopilot, ALineUpThatWalkedPastTheBallBacksOffInsteadOfStepping) {
   game::Cues c;
   c.ballAhead = 0.75, c.ballY = -0.12;  // pelvis at y 0 already: lined up
   int64_t t = 1;
-  for (const int64_t end = t + 2000; a.mode() != game::Autopilot::Mode::Approach && t < end; ++t) a.decide(t, c);
+  decideUntil(a, c, &t, game::Autopilot::Mode::Approach);
   ASSERT_EQ(a.mode(), game::Autopilot::Mode::Approach);
   c.ballAhead = -0.4;
   EXPECT_EQ(keys(a.decide(t++, c)), "");
