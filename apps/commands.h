@@ -55,6 +55,7 @@ struct EvalOptions {
   bool sweep = false;  ///< print achieved against commanded speeds instead of the card
   bool verbose = false;  ///< switches: list every failed trial
   bool priorOnly = false;  ///< the card with zero network output: what the skill's prior does by itself
+  std::string only;  ///< switches: only the switches into or out of this skill
 };
 
 /// `treelearn eval switches` options.
@@ -64,6 +65,7 @@ struct SwitchEvalOptions {
   int threads = 2;
   double barPercent = 95.0;  ///< success needed on every pair
   bool verbose = false;      ///< list every failed trial (keys, moment, latency, when it fell)
+  std::string only;          ///< only the switches into or out of this skill (each trial as in the full run)
 };
 
 /// Runs every allowed switch (tree edges, both directions) and prints the report; exit 0 when all pass.

@@ -369,6 +369,7 @@ int main(int argc, char** argv) {
   evalCmd->add_flag("--sweep", eval.sweep, "Walk: hold fixed commands and print achieved against commanded speeds");
   evalCmd->add_flag("--prior-only", eval.priorOnly, "Run the card with zero network output: what the skill's prior does by itself (no model needed)");
   evalCmd->add_flag("--verbose", eval.verbose, "Switches: list every failed trial (keys, moment, latency, time of the fall)");
+  evalCmd->add_option("--only", eval.only, "Switches: only the switches into or out of this skill (the same trials as in the full run)");
 
   try {
     app.parse(argc, argv);
@@ -382,6 +383,8 @@ int main(int argc, char** argv) {
     if (*replayCmd) return cmdReplay(replay);
     if (*benchCmd) return apps::runBench(bench);
     if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
+    if (*evalCmd && eval.skill != "switches" && !eval.only.empty())
+      throw engine::Error("--only picks the switches of one skill: it goes with eval switches");
     if (*evalCmd && eval.skill == "switches" && (eval.priorOnly || eval.sweep || !eval.model.empty()))
       throw engine::Error("eval switches runs the shipped models: it takes no --prior-only, --sweep or --model");
     if (*evalCmd && eval.skill == "switches") {
@@ -390,6 +393,7 @@ int main(int argc, char** argv) {
       sw.seed = eval.seed;
       sw.threads = eval.threads;
       sw.verbose = eval.verbose;
+      sw.only = eval.only;
       return apps::runSwitchEval(sw);
     }
     if (*evalCmd && eval.skill == "all") return apps::runEvalAll(eval);

@@ -185,10 +185,20 @@ int runSwitchEval(const SwitchEvalOptions& o) {
   if (pairs.empty())
     throw engine::Error("eval switches: no two connected skills have models yet (loaded: " +
                         std::to_string(skills.skills.size()) + "); train a branch first");
-  std::printf("switch report: %zu allowed switches x %d trials on levels/flat (random moment 2-4 s, from lying 3-5 s, "
+  size_t selected = pairs.size();
+  if (!o.only.empty()) {
+    if (!skills.byName(o.only))
+      throw engine::Error("eval switches --only " + o.only + ": no such skill with a model (see `treelearn tree`)");
+    selected = size_t(std::count_if(pairs.begin(), pairs.end(), [&](const auto& pr) {
+      return pr.first->def.name == o.only || pr.second->def.name == o.only;
+    }));
+    if (selected == 0) throw engine::Error("eval switches --only " + o.only + ": the skill has no allowed switch with a model at the other end");
+  }
+  std::printf("switch report: %zu allowed switches%s x %d trials on levels/flat (random moment 2-4 s, from lying 3-5 s, "
               "out of a stand-up 1-4 s into it; random movement keys before and after; success = switched within %.0f s "
               "of the key and no fall for %.0f s after the switch)\n",
-              pairs.size(), o.trials, kMaxWaitSeconds, kAfterSeconds);
+              selected, o.only.empty() ? "" : (" (of " + std::to_string(pairs.size()) + ", those of " + o.only + ")").c_str(),
+              o.trials, kMaxWaitSeconds, kAfterSeconds);
   std::printf("  %-22s %8s %9s   %-27s %-27s\n", "switch", "success", "latency", "peak CoM accel [m/s^2]",
               "peak target step [rad]");
   std::printf("  %-22s %8s %9s   %-27s %-27s\n", "", "", "[ticks]", "around switch / 1 s before", "around switch / 1 s before");
@@ -196,6 +206,8 @@ int runSwitchEval(const SwitchEvalOptions& o) {
   bool pass = true;
   double worstLatency = 0;
   for (size_t p = 0; p < pairs.size(); ++p) {
+    // --only: the others are skipped, each kept pair's trials keep their seeds (p counts every pair)
+    if (!o.only.empty() && pairs[p].first->def.name != o.only && pairs[p].second->def.name != o.only) continue;
     std::vector<Trial> trials(size_t(o.trials));
     pool.parallelFor(o.trials, [&](int i) {
       trials[size_t(i)] = runTrial(level, model, skills, *pairs[p].first, *pairs[p].second, o.seed * 1000003 + p * 1009 + uint64_t(i));

@@ -172,6 +172,19 @@ int runTrain(const TrainOptions& o) {
                   skill.handoverViaSeconds.lo, skill.handoverViaSeconds.hi);
     }
   }
+  std::shared_ptr<ai::LoadedPolicy> backPolicy;
+  if (skill.handoverBack > 0) {  // episodes that start under a child's shipped model (the way back up the tree)
+    const robot::SkillDef* child = l.tree.find(skill.handoverBackFrom);
+    const std::string path = modelsDir + "/" + child->model;
+    if (!std::filesystem::exists(path))
+      throw engine::Error(path + ": the skill '" + child->name + "' has no model yet (handover_back episodes start under it): train " +
+                          child->name + " first, or set handover_back = 0");
+    backPolicy = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(path));
+    envOptions.back = {child, [backPolicy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { backPolicy->act(obs, act); }};
+    std::printf("handover episodes back up the tree: %.0f %% start under '%s' (%s) for %.1f-%.1f s, then switch to '%s'\n",
+                100 * skill.handoverBack, child->name.c_str(), path.c_str(), skill.handoverBackSeconds.lo,
+                skill.handoverBackSeconds.hi, skill.name.c_str());
+  }
   ai::SkillEnv env(l.model, skill, l.tree.path, envOptions);
   ai::TrainerOptions options;
   options.runDir = runDir;

@@ -327,7 +327,8 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.randomisation.pushSpeed = r.range(*d, "push_speed", {0, 0}, 0, 5, where + ".randomisation");
     }
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
-      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx"}, where + ".training");
+      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx",
+                        "handover_back", "handover_back_from", "handover_back_s"}, where + ".training");
       if (const toml::node* op = tr->get("only_positive_rewards")) {
         auto b = op->value<bool>();
         if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
@@ -349,6 +350,19 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                                                "and this one, and there are none (handover_from is the parent)"));
       if (s.handover > 0 && s.parent.empty())
         throw Error(located(path, r.line(*tr->get("handover")), where + ".training.handover needs a parent skill"));
+      s.handoverBack = r.number(*tr, "handover_back", 0, 0, 1, where + ".training");
+      s.handoverBackSeconds = r.range(*tr, "handover_back_s", {1.0, 3.0}, 0.01, 60, where + ".training");
+      if (const toml::node* hb = tr->get("handover_back_from")) {
+        const std::optional<std::string> name = hb->value<std::string>();
+        if (!name) throw Error(located(path, r.line(*hb), where + ".training.handover_back_from must be a skill name"));
+        s.handoverBackFrom = *name;
+      }
+      if (s.handover + s.handoverBack > 1.0)
+        throw Error(located(path, r.line(*tr->get("handover_back")), where + ".training.handover + handover_back must be at most 1 "
+                                                                     "(they are shares of the training episodes)"));
+      if ((s.handoverBack > 0) != !s.handoverBackFrom.empty())
+        throw Error(located(path, r.line(*tr), where + ".training: handover_back and handover_back_from go together (the "
+                                               "share of episodes that start under a child, and which child)"));
     }
     if (const toml::table* bt = r.table(*t, "ball", false, where)) {
       const std::string w = where + ".ball";
@@ -548,6 +562,12 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         throw Error(located(path, s.line, "skill." + s.name + ": its parents form a cycle and never reach the root"));
       at = tree.find(at->parent);
       handoverFromAncestor = handoverFromAncestor || at->name == s.handoverFrom;
+    }
+    if (!s.handoverBackFrom.empty()) {
+      const SkillDef* child = tree.find(s.handoverBackFrom);
+      if (!child || child->parent != s.name)
+        throw Error(located(path, s.line, "skill." + s.name + ": training.handover_back_from = '" + s.handoverBackFrom +
+                                          "' is not one of its children"));
     }
     if (!s.handoverFrom.empty() && !handoverFromAncestor)
       throw Error(located(path, s.line, "skill." + s.name + ": training.handover_from = '" + s.handoverFrom +

@@ -262,6 +262,13 @@ struct SkillDef {
   /// the parent's drive in a handover episode: forward at a speed drawn from this range (W held, as before the
   /// run's key in play); {0, 0}: one random draw from the parent's command ranges
   Range handoverVx{0.0, 0.0};
+  /// handover episodes from a child, the way back up the tree (jump -> squat in play): this fraction of training
+  /// episodes starts with the child `handoverBackFrom`'s policy driving from the spawn stance (after the standing
+  /// controller's kMinHopTicks, as play enters a key-pose skill) for handoverBackSeconds at a zero command, then
+  /// switching to this skill as the runtime does (out of a key-pose skill: once the robot stands settled)
+  double handoverBack = 0;
+  std::string handoverBackFrom;
+  Range handoverBackSeconds{1.0, 3.0};
   CardDef card;
   TerrainDef terrain;
   CurriculumDef curriculum;

@@ -57,6 +57,7 @@ struct SkillEnv::Env {
   float reward = 0;
   uint8_t terminated = 0, truncated = 0;
   int fadeTicks = 0;  // a handover episode: ticks of the parent prior's fade left
+  const robot::SkillDef* fadeFrom = nullptr;  // ... the skill whose prior fades out
   robot::PhaseClock fadePhase;  // the parent's clock, going on under its prior during the fade
   double finishedReturn = 0;  // the finished episode's return (reported as float; the curriculum's in full)
   int finishedLength = 0;
@@ -84,6 +85,16 @@ SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill,
     for (const HandoverStage& v : options_.via) via_.push_back(*v.skill);
     route_.push_back({&parent_, options_.parentPolicy});
     for (size_t k = 0; k < via_.size(); ++k) route_.push_back({&via_[k], options_.via[k].policy});
+  }
+  if (skill_.handoverBack > 0) {
+    if (!options_.back.skill || !options_.back.policy)
+      throw engine::Error("skill '" + skill_.name + "' trains handover episodes from '" + skill_.handoverBackFrom +
+                          "': the environment needs that skill's policy");
+    backChild_ = *options_.back.skill;
+    backSkill_ = skill_;
+    backSkill_.handoverSeconds = skill_.handoverBackSeconds;
+    backSkill_.handoverVx = {0.0, 0.0};
+    backRoute_.push_back({&backChild_, options_.back.policy});
   }
   for (int i = 0; i < options.numEnvs; ++i) {
     envs_.push_back(std::make_unique<Env>());
@@ -180,8 +191,10 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.action.fill(0.0f);
   e.fadeTicks = 0;
   robot::SkillCommand handedOver;  // the keys' command at the switch (zero for an ordinary episode)
-  if (allowHandover && skill_.handover > 0 && unit(e.rng) < skill_.handover) {
-    if (!handOver(e, &handedOver)) {
+  // (the draw is made only for a skill with handover episodes, so other skills' episodes are unchanged)
+  const double draw = allowHandover && skill_.handover + skill_.handoverBack > 0 ? unit(e.rng) : 1.0;
+  if (draw < skill_.handover + skill_.handoverBack) {
+    if (!handOver(e, draw >= skill_.handover, &handedOver)) {
       resetEnv(e, false);  // the parent fell before the switch: an ordinary episode instead
       return;
     }
@@ -211,11 +224,13 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
 }
 
 // a handover episode's start: runHandover along route_ (the parent, then the skills routed through)
-bool SkillEnv::handOver(Env& e, robot::SkillCommand* commandAtSwitch) {
+bool SkillEnv::handOver(Env& e, bool back, robot::SkillCommand* commandAtSwitch) {
   HandoverEnd end;
   end.action = e.action;
   end.phase = e.phase;
-  if (!runHandover(model_, e.model, *e.world, *e.robot, &e.sensors, route_, skill_, e.rng, &end)) return false;
+  const std::vector<HandoverStage>& route = back ? backRoute_ : route_;
+  if (!runHandover(model_, e.model, *e.world, *e.robot, &e.sensors, route, back ? backSkill_ : skill_, e.rng, &end)) return false;
+  e.fadeFrom = route.back().skill;
   e.phase = end.phase;
   e.action = end.action;
   e.fadePhase = end.fadePhase;
@@ -238,6 +253,15 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
   const engine::CommandLimits keys;
   Eigen::MatrixXf obs(robot::kObservationSize, 1), out;
   robot::PhaseClock& phase = end->phase;
+  if (robot::startsFromDefaultPose(driver)) {  // the standing controller first, as play enters a key-pose skill
+    robot.setCommand(robot::Robot::standingCommand(actual));
+    for (int t = 0; t < game::kMinHopTicks; ++t)
+      for (int j = 0; j < game::kSubsteps; ++j) {
+        robot.applyPd(world);
+        world.step(game::kSubstepSeconds);
+      }
+    *sensors = robot.sense(world);
+  }
   robot::PhaseClock fadePhase;
   int fadeTicks = 0;
   for (size_t k = 0; k + 1 < route.size(); ++k) {
@@ -247,8 +271,12 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
     for (int t = 0;; ++t) {
       if (t >= run) {  // the switch, once the skill's brake (if it waits) and the gait phase allow it
         if (waits) target = robot::switchBrakeTarget(p, next, target);
-        const bool ready = !waits || t - run >= robot::maxSwitchWaitTicks(next) ||
+        bool ready = !waits || t - run >= robot::maxSwitchWaitTicks(next) ||
                            (robot::readyForSwitch(p, next, target, command, *sensors) && robot::postureAllowsSwitch(p, next, *sensors));
+        if (robot::startsFromDefaultPose(p) && !robot::postureAllowsSwitch(p, next, *sensors)) {  // a settled stand first
+          if (t - run >= 2 * robot::kMaxRestWaitTicks) return false;
+          ready = false;
+        }
         if (ready && robot::phaseAllowsSwitch(p, next, phase)) break;
       }
       engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,
@@ -339,7 +367,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     robot::PdCommand pd;
     robot::skillPdCommand(e.model, skill_, e.action, e.phase, e.command, &pd);
     if (e.fadeTicks > 0) {  // a handover episode's first 0.3 s: the parent's prior fades out as in play
-      const robot::SkillDef& from = *route_.back().skill;
+      const robot::SkillDef& from = *e.fadeFrom;
       e.fadePhase.advance(from.prior, e.command);
       robot::fadePrior(e.model, from, e.fadePhase, skill_, e.phase, e.command,
                        double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);

@@ -37,7 +37,9 @@ struct HandoverEnd {
 /// rest while the command ramps to zero and, into a key-pose skill, for a settled stand (robot::postureAllowsSwitch);
 /// the next skill starts with the filtered action, the phase carried over and the previous prior fading out. Each
 /// skill after route[0] runs `skill.handoverViaSeconds` at a zero command before the next switch. `nominal` is
-/// the model the observations use, `actual` the (randomised) one the PD targets use. `robot` starts as placed;
+/// the model the observations use, `actual` the (randomised) one the PD targets use. A route[0] that starts from
+/// the default pose (a key-pose skill: the jump) takes over from the standing controller after kMinHopTicks, as in
+/// play; out of such a skill each switch waits for a settled stand (at most 3 s). `robot` starts as placed;
 /// `sensors` is updated. Returns false if the robot fell on the way.
 bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actual, engine::PhysicsWorld& world,
                  robot::Robot& robot, robot::Sensors* sensors, const std::vector<HandoverStage>& route,
@@ -54,6 +56,8 @@ struct SkillEnvOptions {
   /// the skills a handover episode routes through after the parent (handover_from an ancestor further up: the
   /// one-leg stand between walk and kick), in route order
   std::vector<HandoverStage> via;
+  /// handover episodes from a child (the skill's training.handover_back > 0): the child's tree entry and policy
+  HandoverStage back;
 };
 
 /// Statistics of one environment's current episode, for evaluation.
@@ -103,7 +107,7 @@ class SkillEnv final : public VecEnv {
  private:
   struct Env;
   void resetEnv(Env& e, bool allowHandover = true);
-  bool handOver(Env& e, robot::SkillCommand* commandAtSwitch);
+  bool handOver(Env& e, bool back, robot::SkillCommand* commandAtSwitch);
   void sampleCommand(Env& e);
   void steerCommand(Env& e) const;
   void observe(const Env& e, float* out) const;
@@ -117,6 +121,9 @@ class SkillEnv final : public VecEnv {
   robot::SkillDef parent_;  // handover episodes only: the skill that drives first
   std::vector<robot::SkillDef> via_;  // ... the skills routed through after it
   std::vector<HandoverStage> route_;  // parent_ then via_, with their policies (the last one's prior fades out)
+  robot::SkillDef backChild_;  // handover episodes from a child: the child that drives first
+  robot::SkillDef backSkill_;  // ... and this skill as that route switches into it (handover_back_s as its drive)
+  std::vector<HandoverStage> backRoute_;
   std::vector<WeightedTerm> terms_;
   SkillEnvOptions options_;
   WorkerPool pool_;

@@ -1,6 +1,7 @@
 // skill_env_test.cpp — the walk training environment: deterministic for a seed whatever the thread count,
 // rewards are the weighted sum of the named terms, and falls terminate.
 #include "ai/env/skill_env.h"
+#include "engine/core/error.h"
 
 #include <gtest/gtest.h>
 
@@ -495,4 +496,39 @@ TEST(SkillEnv, ABallAbsentShareStartsThatShareOfEpisodesWithoutTheBall) {
   const int half = ballless(0.5);  // binomial(40, 0.5): 10..30 holds with probability > 0.998
   EXPECT_GE(half, 10);
   EXPECT_LE(half, 30);
+}
+
+TEST(SkillEnv, HandoverFromAChildStartsUnderItFromTheStandAndSwitchesOnceSettled) {
+  // the way back up the tree (jump -> squat in play): the jump's prior (its policy only raises the arms) takes over
+  // from the standing controller, jumps for 1 s and the squat takes over once the robot stands settled between
+  // jumps (leg joints slower than kSettledJointSpeed, the pelvis slower than kRestSpeed), with the jump's
+  // low-passed action in its previous-action slot. No walk policy is called: these episodes start under the child.
+  robot::SkillDef squat = *fixture().tree.find("squat");
+  squat.handover = 0;
+  squat.handoverBack = 1.0;
+  squat.handoverBackFrom = "jump";
+  squat.handoverBackSeconds = {1.0, 1.0};
+  const robot::SkillDef& jump = *fixture().tree.find("jump");
+  Eigen::VectorXf arms = Eigen::VectorXf::Zero(robot::kActionSize);
+  arms(13) = arms(18) = -0.1f;  // shoulder pitch, both arms
+  std::atomic<int> jumpCalls{0};
+  ai::SkillEnvOptions options = envOptions(4, 2, false);
+  options.back = {&jump, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
+                    ++jumpCalls;
+                    *a = arms.replicate(1, obs.cols());
+                  }};
+  ai::SkillEnv env(fixture().model, squat, fixture().tree.path, options);
+  Eigen::MatrixXf obs;
+  env.reset(3, &obs);
+  EXPECT_GE(jumpCalls.load(), 4 * 100);  // 1 s of the jump in each environment, then its wait for a settled stand
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < robot::kActionSize; ++j)
+      EXPECT_NEAR(obs(robot::kObsPreviousAction + j, i), arms(j), 0.01) << "env " << i << " joint " << j;
+    for (int j = 0; j < robot::kNumLegJoints; ++j)
+      EXPECT_LT(std::abs(obs(robot::kObsJointVelocity + j, i)), robot::kSettledJointSpeed) << "env " << i << " joint " << j;
+    EXPECT_LT(Eigen::Vector2f(obs(robot::kObsLinearVelocity, i), obs(robot::kObsLinearVelocity + 1, i)).norm(), robot::kRestSpeed)
+        << "env " << i;
+  }
+  // without the child's policy the environment cannot start these episodes
+  EXPECT_THROW(ai::SkillEnv(fixture().model, squat, fixture().tree.path, envOptions(1, 1, false)), engine::Error);
 }

@@ -379,6 +379,15 @@ TEST(Cli, UnknownSkillIsAnError) {
   EXPECT_NE(r.out.find("unknown skill 'flyer'"), std::string::npos) << r.out;
 }
 
+TEST(Cli, SwitchesOnlyTakesASkillWithSwitches) {
+  const CliRun unknown = run("eval switches --only flyer --episodes 1");
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.out.find("eval switches --only flyer: no such skill"), std::string::npos) << unknown.out;
+  const CliRun notSwitches = run("eval walk --only squat");
+  EXPECT_EQ(notSwitches.code, 2);
+  EXPECT_NE(notSwitches.out.find("--only picks the switches of one skill"), std::string::npos) << notSwitches.out;
+}
+
 TEST(Cli, PriorOnlyCardRunsTheSkillsPriorWithoutAModel) {
   // the squat's key pose alone at depth 0 is the default pose: standing, it keeps the robot up without a network
   const std::string dir = tempDir("prior_only");

@@ -280,6 +280,19 @@ TEST(SkillTree, BadEntriesAreLocated) {
                                            "[skill.c.training]\nhandover = 0.5\nhandover_from = \"walk\"\n";
   EXPECT_EQ(errorOf(grandparent), "");
   EXPECT_EQ(errorOf(grandparent + "handover_via_s = [0.5, 1.5]\n"), "");  // time in a, between walk and c
+  // handover_back_from names a child (the way back up the tree), and goes with a share of episodes
+  EXPECT_EQ(errorOf(grandparent + "[skill.a.training]\nhandover_back = 0.4\nhandover_back_from = \"c\"\n"), "");
+  EXPECT_NE(errorOf(branch + "[skill.a.training]\nhandover_back = 0.4\nhandover_back_from = \"walk\"\n")
+                .find("t.toml:19: skill.a: training.handover_back_from = 'walk' is not one of its children"),
+            std::string::npos)
+      << errorOf(branch + "[skill.a.training]\nhandover_back = 0.4\nhandover_back_from = \"walk\"\n");
+  const std::string shareAlone = branch + "[skill.a.training]\nhandover_back = 0.4\n";
+  EXPECT_NE(errorOf(shareAlone).find("t.toml:24: skill.a.training: handover_back and handover_back_from go together"),
+            std::string::npos)
+      << errorOf(shareAlone);
+  const std::string overOne = grandparent + "[skill.a.training]\nhandover = 0.7\nhandover_back = 0.4\nhandover_back_from = \"c\"\n";
+  EXPECT_NE(errorOf(overOne).find("skill.a.training.handover + handover_back must be at most 1"), std::string::npos)
+      << errorOf(overOne);
   const std::string nothingBetween = branch + "[skill.a.training]\nhandover = 0.5\nhandover_via_s = [0.5, 1.5]\n";
   EXPECT_NE(errorOf(nothingBetween).find("t.toml:26: skill.a.training.handover_via_s is the time in the skills between"),
             std::string::npos)
