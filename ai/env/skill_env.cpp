@@ -22,6 +22,14 @@ namespace {
 
 // a double in [0, 1) from 53 random bits (portable across standard libraries)
 double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+
+// one control tick of physics: the PD torques recomputed every substep, as the game's physics system does
+void stepControlTick(robot::Robot& robot, engine::PhysicsWorld& world) {
+  for (int j = 0; j < game::kSubsteps; ++j) {
+    robot.applyPd(world);
+    world.step(game::kSubstepSeconds);
+  }
+}
 double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
 
 // one velocity draw with the keyboard's interlock: one of vx, vy, wz non-zero, or all zero. Forward gets half of
@@ -255,11 +263,7 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
   robot::PhaseClock& phase = end->phase;
   if (robot::startsFromDefaultPose(driver)) {  // the standing controller first, as play enters a key-pose skill
     robot.setCommand(robot::Robot::standingCommand(actual));
-    for (int t = 0; t < game::kMinHopTicks; ++t)
-      for (int j = 0; j < game::kSubsteps; ++j) {
-        robot.applyPd(world);
-        world.step(game::kSubstepSeconds);
-      }
+    for (int t = 0; t < game::kMinHopTicks; ++t) stepControlTick(robot, world);
     *sensors = robot.sense(world);
   }
   robot::PhaseClock fadePhase;
@@ -297,10 +301,7 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
         --fadeTicks;
       }
       robot.setCommand(pd);
-      for (int j = 0; j < game::kSubsteps; ++j) {
-        robot.applyPd(world);
-        world.step(game::kSubstepSeconds);
-      }
+      stepControlTick(robot, world);
       *sensors = robot.sense(world);
       if (robot::hasFallen(p.termination, *sensors)) return false;
     }
@@ -375,10 +376,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     }
     e.robot->setCommand(pd);
     const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < game::kSubsteps; ++k) {
-      e.robot->applyPd(*e.world);
-      e.world->step(game::kSubstepSeconds);
-    }
+    stepControlTick(*e.robot, *e.world);
     e.physicsSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     e.sensors = e.robot->sense(*e.world);
     ++e.tick;
