@@ -313,11 +313,13 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         s.rewardLines[std::string(rk.str())] = r.line(rv);
       }
     if (const toml::table* e = r.table(*t, "termination", false, where)) {
-      r.onlyKeys(*e, {"max_tilt_deg", "forward_pitch_deg", "min_height", "episode_s"}, where + ".termination");
+      r.onlyKeys(*e, {"max_tilt_deg", "forward_pitch_deg", "min_height", "episode_s", "lifted_foot_touch_s"},
+                 where + ".termination");
       s.termination.maxForwardPitchDegrees = r.number(*e, "forward_pitch_deg", -1, -1, 180, where + ".termination");
       s.termination.maxTiltDegrees = r.number(*e, "max_tilt_deg", 30, 1, 180, where + ".termination");
       s.termination.minHeight = r.number(*e, "min_height", 0.5, 0, 2, where + ".termination");
       s.termination.episodeSeconds = r.number(*e, "episode_s", 10, 0.1, 3600, where + ".termination");
+      s.termination.liftedFootTouchSeconds = r.number(*e, "lifted_foot_touch_s", 0, 0, 60, where + ".termination");
     }
     if (const toml::table* d = r.table(*t, "randomisation", false, where)) {
       r.onlyKeys(*d, {"friction", "added_mass", "push_every_s", "push_speed"}, where + ".randomisation");

@@ -110,6 +110,10 @@ struct TerminationDef {
   double maxForwardPitchDegrees = -1;
   double minHeight = 0.5;      ///< pelvis below this [m] is a fall
   double episodeSeconds = 10;  ///< time limit (a truncation, not a fall)
+  /// One-leg skills: > 0 ends the episode as a fall when the lifted (right) foot touches the ground after a lift
+  /// of at least half the full one (ai::kFootLiftHeight / 2) has been asked for this long [s]; 0: off. (A policy
+  /// paid only while the foot is up learned to balance by tapping it down: one_leg.train.md, session 21.)
+  double liftedFootTouchSeconds = 0;
 };
 
 /// Terrain a skill trains on. Stairs (the level format's, levels::StairsDef): `steps` risers up along +X from

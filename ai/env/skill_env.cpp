@@ -58,6 +58,7 @@ struct SkillEnv::Env {
   robot::PhaseClock phase;
   std::array<float, robot::kActionSize> action{}, previousAction{};
   int tick = 0, nextCommandTick = 0, nextPushTick = 0;
+  int liftAskedTicks = 0;  // consecutive ticks a lift of >= kFootLiftHeight / 2 has been asked (lifted_foot_touch_s)
   double episodeReturn = 0;
   std::vector<double> termSums;
   double physicsSeconds = 0;
@@ -217,6 +218,7 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.ball = ball ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
   if (e.ball >= 0) e.ballState = e.world->ballState(e.ball);
   e.tick = 0;
+  e.liftAskedTicks = 0;
   e.episodeReturn = 0;
   // every episode starts at amplitude 0; a ramped velocity command goes on from the handover's, as the keys' ramp
   // does in play across a switch (W held from the walk into the run: from the walk's command up to the run's)
@@ -418,8 +420,13 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
     }
 
-    // episode end: a fall terminates, the time limit truncates
-    const bool fell = robot::hasFallen(skill_.termination, e.sensors);
+    // episode end: a fall terminates (and, when the skill asks, the lifted foot touching down), the time limit truncates
+    bool fell = robot::hasFallen(skill_.termination, e.sensors);
+    if (skill_.termination.liftedFootTouchSeconds > 0) {
+      e.liftAskedTicks = askedFootLift(skill_, e.command.amplitude) >= 0.5 * kFootLiftHeight ? e.liftAskedTicks + 1 : 0;
+      const long graceTicks = std::lround(skill_.termination.liftedFootTouchSeconds / engine::kTickSeconds);
+      if (e.liftAskedTicks >= graceTicks && e.sensors.footContact[1]) fell = true;
+    }
     e.terminated = fell;
     e.truncated = !fell && e.tick >= maxTicks;
     if (e.terminated || e.truncated) {

@@ -8,6 +8,12 @@
 #include "robot/skill_controller.h"
 
 namespace ai {
+double askedFootLift(const robot::SkillDef& skill, double amplitude) {
+  double first, late;
+  robot::poseStages(skill.prior, amplitude, &first, &late);
+  return kFootLiftHeight * (skill.prior.hasLate ? late : amplitude);
+}
+
 namespace {
 
 constexpr double kDeg = 180.0 / M_PI;
@@ -49,11 +55,7 @@ double actionRate(const RewardContext& c) {
 }
 double verticalVelocity(const RewardContext& c) { return -std::abs(c.sensors->linearVelocity.z()); }
 // the right sole's height asked [m]: a two-stage pose lifts the foot in its late stage only
-double askedLift(const RewardContext& c) {
-  double first, late;
-  robot::poseStages(c.skill->prior, c.command->amplitude, &first, &late);
-  return kFootLiftHeight * (c.skill->prior.hasLate ? late : c.command->amplitude);
-}
+double askedLift(const RewardContext& c) { return askedFootLift(*c.skill, c.command->amplitude); }
 // a lift asked and the right foot on the ground (the toe of a folded leg resting there, the pelvis lowered to
 // it: the one-leg stand's 19 M-step policy "held" the sole 4-5 cm up with 130-170 N on the right foot) pays nothing
 bool liftedFootDown(const RewardContext& c) { return askedLift(c) >= 0.005 && c.sensors->footContact[1]; }

@@ -40,6 +40,9 @@ constexpr double kPronePelvisHeight = 0.12;
 
 /// foot_lift: the right sole's target height at amplitude 1 [m] (one_leg stands on the left leg).
 constexpr double kFootLiftHeight = 0.12;
+/// The right sole's height asked of a skill at an amplitude command [m]: kFootLiftHeight x the amplitude, or x a
+/// two-stage pose's late weight (the one-leg stand lifts the foot in its late stage only).
+double askedFootLift(const robot::SkillDef& skill, double amplitude);
 
 /// pushup_height: the pelvis at the bottom and at the top of a push-up (measured with the pushup prior alone
 /// from the prone pose: 0.10-0.12 m and 0.19-0.23 m) [m].

@@ -532,3 +532,41 @@ TEST(SkillEnv, HandoverFromAChildStartsUnderItFromTheStandAndSwitchesOnceSettled
   // without the child's policy the environment cannot start these episodes
   EXPECT_THROW(ai::SkillEnv(fixture().model, squat, fixture().tree.path, envOptions(1, 1, false)), engine::Error);
 }
+
+TEST(SkillEnv, TheLiftedFootTouchingDownEndsTheEpisodeOnlyOnceTheLiftHasBeenAskedItsTime) {
+  // the one-leg stand with its shift and lift taken out of the prior: the robot stands on both feet while the
+  // amplitude ramps to 1 and the lift is asked
+  robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
+  oneLeg.handover = 0;
+  oneLeg.handoverBack = 0;
+  oneLeg.commands.amplitude = {1.0, 1.0};
+  oneLeg.curriculum = robot::CurriculumDef{};  // no lessons capping the amplitude
+  oneLeg.prior.poseOffset.fill(0.0);
+  oneLeg.prior.lateOffset.fill(0.0);
+  ASSERT_TRUE(oneLeg.prior.hasLate);
+  // the tick at which the asked lift first reaches half the full one (the ramp's 0.01 a tick: amplitude 0.75)
+  int firstAsked = 0;
+  double a = 0;
+  for (int k = 1; k < 200 && !firstAsked; ++k) {
+    a += std::clamp(1.0 - a, -0.01, 0.01);
+    if (ai::askedFootLift(oneLeg, a) >= 0.5 * ai::kFootLiftHeight) firstAsked = k;
+  }
+  ASSERT_NEAR(firstAsked, 75, 1);
+
+  const auto terminationTick = [&](double touchSeconds) {
+    robot::SkillDef s = oneLeg;
+    s.termination.liftedFootTouchSeconds = touchSeconds;
+    ai::SkillEnv env(fixture().model, s, fixture().tree.path, envOptions(1, 1, false));
+    Eigen::MatrixXf obs;
+    env.reset(2, &obs);
+    ai::StepResult r;
+    for (int k = 1; k <= 300; ++k) {
+      env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 1), &r);
+      if (r.terminated[0]) return k;
+    }
+    return 0;
+  };
+  EXPECT_EQ(terminationTick(0.0), 0);                    // off: the stand holds 3 s
+  EXPECT_EQ(terminationTick(0.3), firstAsked + 30 - 1);  // the 30th tick of the lift asked, the foot still down
+  EXPECT_EQ(terminationTick(1.0), firstAsked + 100 - 1);
+}
