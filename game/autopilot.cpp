@@ -29,6 +29,14 @@ constexpr double kBallAheadTol = 0.08, kBallSideTol = 0.06, kBallYawTol = 0.10, 
 constexpr double kBallBehind = 1.5;      // a ball up to this far behind the pelvis is still to be kicked: back up to it
 constexpr double kBallClear = 0.45;      // step this far to the side of it before backing up (not into it)
 constexpr double kBallReach = 0.75;      // line up at most this far off the course's middle (the walls are at +-1.0)
+// a ball too near the left wall for the right-footed kick's spot (the pelvis would have to be kBallSide left of the
+// wall's reach) is pushed on instead: the robot lines up with the ball in front of its left foot and walks through it
+// (the goal spans the course, so a ball rolled along the wall goes in as well as a kicked one)
+constexpr double kDribbleSide = 0.12;   // the left foot's offset from the pelvis (feet 0.237 m apart)
+constexpr double kDribbleYaw = 0.1;     // facing a little toward the wall: the arms keep the pelvis ~0.25 m from it,
+                                        // and walking straight the left foot passed beside a ball resting there
+constexpr double kDribblePassed = 0.3;  // walk on until the ball is this far behind the pelvis (the robot got past
+                                        // it), or it rolled away from the wall, or kDribbleTimeout
 constexpr double kOffLine = 0.45;        // walking this far off y = 0 (or kOffHeading off +X) with nothing close: re-align
 constexpr double kOffHeading = 0.3;
 constexpr double kRestSpeed = 0.06;      // at rest for the align steps [m/s]
@@ -41,7 +49,7 @@ constexpr double kStoodHeight = 0.70;    // standing again
 constexpr double kFlightHeight = 0.86;  // pelvis [m] above which a jump has left the ground (standing: 0.78)
 constexpr int64_t kProneLie = 300, kProneTimeout = 600, kStandTimeout = 600, kJumpTimeout = 400, kBalanceTicks = 500,
                   kKickTicks = 250, kRecoverTicks = 150, kSettleTicks = 40, kAlignTimeout = 1500, kApproachTimeout = 1500,
-                  kBackUpTimeout = 600;
+                  kBackUpTimeout = 600, kDribbleTimeout = 2000;
 constexpr int kAlignTries = 4;
 constexpr int kMaxPulses = 8;
 constexpr int64_t kPulseTicks = 15;
@@ -49,6 +57,9 @@ constexpr int64_t kPulseTicks = 15;
 double wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
 // where the line-up puts the pelvis across the course: kBallSide from the ball, or as near as the walls let it
 double kickLineY(const Cues& c) { return std::clamp(c.ballY - kBallSide, -kBallReach, kBallReach); }
+// the kick's spot is out of reach: lined up as near the wall as the robot goes, the ball would still be further left
+// of the pelvis than the kick's side tolerance allows
+bool kickOutOfReach(const Cues& c) { return c.ballY - kickLineY(c) > kBallSide + kBallSideTol; }
 
 }  // namespace
 
@@ -105,6 +116,7 @@ const char* Autopilot::modeName(Mode m) {
     case Mode::Kick: return "kick";
     case Mode::Recover: return "recover";
     case Mode::BackUp: return "back up";
+    case Mode::Dribble: return "dribble";
   }
   return "?";
 }
@@ -127,7 +139,7 @@ void Autopilot::enter(int64_t tick, Mode m, char skillKey, bool forward, std::ve
   if (skillKey) out->push_back({tick, engine::KeyAction::kTap, skillKey});
   for (const char k : std::string("SADQE")) hold(tick, k, false, out);
   hold(tick, 'W', forward, out);
-  alignStep_ = 0, alignTries_ = 0, keyUpTick_ = -1;
+  alignStep_ = 0, alignTries_ = 0, keyUpTick_ = -1, alignYaw_ = 0;
 }
 
 // one key at a time (the interlock): pressed toward the target, released early enough that the command's ramp
@@ -147,7 +159,7 @@ void Autopilot::nudge(int64_t tick, double error, double command, double ramp, d
 bool Autopilot::align(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out) {
   const bool still = c.speed < kRestSpeed && c.commandVx == 0 && c.commandVy == 0 && c.commandWz == 0;
   const bool settled = still && keyUpTick_ >= 0 && tick - keyUpTick_ >= kSettleTicks;
-  const double yawError = wrap(-c.yaw), yError = alignY_ - c.y;
+  const double yawError = wrap(alignYaw_ - c.yaw), yError = alignY_ - c.y;
   if (alignStep_ == 0) {  // stop
     if (still) keyUpTick_ = keyUpTick_ < 0 ? tick : keyUpTick_;
     if (settled) alignStep_ = 1, alignTries_ = 0;
@@ -201,6 +213,10 @@ void Autopilot::lineUpWithBall(int64_t tick, const Cues& c, std::vector<engine::
   enter(tick, Mode::Align, 0, false, out);
   alignY_ = kickLineY(c);
   alignYTol_ = 0.04, alignYawTol_ = 0.05, afterAlign_ = Mode::Approach;
+  if (kickOutOfReach(c)) {  // by the left wall: push it on with the left foot instead
+    alignY_ = std::clamp(c.ballY - kDribbleSide, -kBallReach, kBallReach);
+    alignYaw_ = kDribbleYaw, alignYTol_ = 0.06, alignYawTol_ = 0.1, afterAlign_ = Mode::Dribble;
+  }
 }
 
 // the ball beside or behind the pelvis: clear of it sideways (toward the middle), then back up (Mode::BackUp)
@@ -260,6 +276,8 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
         if (afterAlign_ == Mode::Approach) {
           enter(tick, Mode::Approach, 0, false, &out);
           pulses_ = 0;
+        } else if (afterAlign_ == Mode::Dribble) {
+          enter(tick, Mode::Dribble, 0, true, &out);
         } else if (afterAlign_ == Mode::Prone) {
           enter(tick, Mode::Prone, '7', false, &out);
         } else if (afterAlign_ == Mode::BackUp) {
@@ -269,6 +287,12 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
           enter(tick, Mode::Walk, 0, true, &out);
         }
       }
+      break;
+    case Mode::Dribble:
+      // walking into the ball along the wall: done once it rolled away from the wall (the walk lines up to kick it)
+      // or the robot got past it (the walk backs off and lines up again)
+      if (!kickOutOfReach(c) || c.ballAhead < -kDribblePassed || in > kDribbleTimeout)
+        enter(tick, Mode::Walk, 0, true, &out);
       break;
     case Mode::BackUp:
       if (c.ballAhead > kBallAlignAt - 0.1 || in > kBackUpTimeout) lineUpWithBall(tick, c, &out);

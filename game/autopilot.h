@@ -13,6 +13,8 @@
 //                                then the one-leg stand (5) and the kick (6); again if it is still short
 //   the ball beside or behind  -> (a kick that sent it sideways) step clear of it, back up (S) until it is ahead,
 //                                and line up again
+//   the ball by the left wall  -> (out of the right foot's reach) line up with it in front of the left foot, facing
+//                                0.1 rad toward the wall, and walk into it (W) until it rolls off the wall or is passed
 //   off the course's line     -> (walking, nothing close) stop, turn back to +X, step sideways back to y = 0
 //   put back at a checkpoint  -> walk on from there (every key released first)
 #pragma once
@@ -54,7 +56,7 @@ Cues senseCues(const Session& session);
 
 class Autopilot {
  public:
-  enum class Mode { Walk, Run, Stairs, Prone, Crawl, StandUp, Jump, Align, Approach, Balance, Kick, Recover, BackUp };
+  enum class Mode { Walk, Run, Stairs, Prone, Crawl, StandUp, Jump, Align, Approach, Balance, Kick, Recover, BackUp, Dribble };
 
   /// The key events for this tick, given what the robot perceives.
   std::vector<engine::KeyEvent> decide(int64_t tick, const Cues& cues);
@@ -84,7 +86,7 @@ class Autopilot {
   std::string held_;          // movement keys held now (W S A D Q E)
   int respawnsSeen_ = 0;
   // Align / Approach: the target, the tolerances, the step (stop, turn, side) and when the last key went up
-  double alignY_ = 0, alignYTol_ = 0.1, alignYawTol_ = 0.1;
+  double alignY_ = 0, alignYTol_ = 0.1, alignYawTol_ = 0.1, alignYaw_ = 0;  // alignYaw_: the heading to face
   Mode afterAlign_ = Mode::Walk;
   int alignStep_ = 0, alignTries_ = 0;
   int64_t keyUpTick_ = -1;

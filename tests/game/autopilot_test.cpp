@@ -269,6 +269,35 @@ TEST(Autopilot, ALineUpThatWalkedPastTheBallBacksOffInsteadOfStepping) {
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::BackUp);
 }
 
+TEST(Autopilot, ABallAgainstTheLeftWallIsPushedOnWithTheLeftFootInsteadOfKicked) {
+  // the ball rests against the left wall (its inner face at y = 1.0, the ball's radius 0.11 m): the kick's spot, the
+  // pelvis 0.12 m left of the ball, is out of the 0.75 m the line-up goes; it lines up with the ball in front of
+  // the left foot instead, facing 0.1 rad toward the wall, and walks into it
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.ballAhead = 0.75, c.ballY = 0.89;
+  EXPECT_EQ(keys(a.decide(1, c)), "up W;");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
+  c.y = 0.75, c.yaw = 0.1;  // lined up (0.89 - 0.12 = 0.77, as near the wall as the line-up goes)
+  int64_t t = 2;
+  EXPECT_EQ(decideUntil(a, c, &t, game::Autopilot::Mode::Dribble), "down W;");
+  c.ballAhead = -0.1;  // beside the left foot, still against the wall: walk on into it
+  EXPECT_EQ(keys(a.decide(t++, c)), "");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Dribble);
+  c.ballAhead = 0.4, c.ballY = 0.6;  // rolled off the wall: the kick's spot is in reach again
+  a.decide(t++, c);
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Walk);
+
+  game::Autopilot b;  // 0.24 m nearer the middle: the kick's line-up, the ball 0.10 m right of the pelvis at 0.75
+  b.decide(0, {});
+  c = {};
+  c.ballAhead = 0.75, c.ballY = 0.65, c.y = 0.75;
+  t = 1;
+  decideUntil(b, c, &t, game::Autopilot::Mode::Approach);
+  EXPECT_EQ(b.mode(), game::Autopilot::Mode::Approach);
+}
+
 TEST(Autopilot, AfterARespawnItReleasesEveryKeyAndWalksOn) {
   game::Autopilot a;
   a.decide(0, {});
