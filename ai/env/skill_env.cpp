@@ -22,6 +22,7 @@ namespace {
 
 // a double in [0, 1) from 53 random bits (portable across standard libraries)
 double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
 
 // one control tick of physics: the PD torques recomputed every substep, as the game's physics system does
 void stepControlTick(robot::Robot& robot, engine::PhysicsWorld& world) {
@@ -30,7 +31,6 @@ void stepControlTick(robot::Robot& robot, engine::PhysicsWorld& world) {
     world.step(game::kSubstepSeconds);
   }
 }
-double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
 
 // one velocity draw with the keyboard's interlock: one of vx, vy, wz non-zero, or all zero. Forward gets half of
 // the non-zero commands, sideways and turning a quarter each; a kind whose range is [0, 0] (not used by the
