@@ -191,10 +191,11 @@ int cmdPlay(const PlayArgs& a) {
   std::fputs(summary.c_str(), stdout);
   if (!a.summary.empty()) engine::writeFileAtomic(a.summary, summary);
   if (!a.log.empty()) {
-    std::string csv = "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s,com_y_m,yaw_rad\n";
+    std::string csv = "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s,com_y_m,yaw_rad,com_left_of_feet_m\n";
     char row[160];
     for (const game::ComSample& c : r.comLog) {
-      std::snprintf(row, sizeof row, "%.2f,%s,%.4f,%.4f,%.4f,%.4f,%.4f\n", c.t, c.skill.c_str(), c.x, c.z, c.vx, c.y, c.yaw);
+      std::snprintf(row, sizeof row, "%.2f,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", c.t, c.skill.c_str(), c.x, c.z, c.vx, c.y, c.yaw,
+                    c.leftOfFeet);
       csv += row;
     }
     engine::writeFileAtomic(a.log, csv);
@@ -314,7 +315,7 @@ int main(int argc, char** argv) {
   playCmd->add_option("--seed", play.seed, "Random seed (default: the key script's seed line, else 1)");
   playCmd->add_option("--record", play.record, "Write a replay file");
   playCmd->add_option("--summary", play.summary, "Also write the summary to this file");
-  playCmd->add_option("--log", play.log, "Write the centre of mass at 50 Hz (time, skill, x, height, forward speed) to a CSV file");
+  playCmd->add_option("--log", play.log, "Write the centre of mass at 50 Hz to a CSV file (time, skill, x, height, forward speed, y, heading, offset left of the feet)");
   playCmd->add_option("--expect", play.expect, "Exit 1 unless this holds: alive (no fall) or win")
       ->check(CLI::IsMember({"alive", "win"}));
   addOutputOptions(playCmd, &play.out);

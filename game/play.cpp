@@ -33,8 +33,11 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     comX.push_back(com.x());
     if (done % 2 == 0) {
       const double vx = comX.size() > 2 ? (comX.back() - comX[comX.size() - 3]) / (2 * engine::kTickSeconds) : 0.0;
+      const robot::Sensors& sensed = session.sensors();
+      const Eigen::Vector2d feet = 0.5 * (sensed.footPosition[0] + sensed.footPosition[1]).head<2>();
+      const double left = (com.head<2>() - feet).dot(Eigen::Vector2d(-std::sin(sensed.yaw), std::cos(sensed.yaw)));
       result.comLog.push_back({double(done) * engine::kTickSeconds, com.x(), com.z(), vx, session.activeSkillName(), com.y(),
-                                session.sensors().yaw});
+                                sensed.yaw, left});
     }
 
     if (options.hashEvery > 0 && done % options.hashEvery == 0) {

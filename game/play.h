@@ -41,6 +41,9 @@ struct ComSample {
   double t = 0, x = 0, z = 0, vx = 0;
   std::string skill;
   double y = 0, yaw = 0;  ///< the centre of mass across the course [m], the pelvis heading [rad]
+  /// the centre of mass's offset to the robot's left (across the pelvis heading) from the point between the feet
+  /// [m]: about 0 standing on both feet, the half stance width (~0.1 m) over the left foot
+  double leftOfFeet = 0;
 };
 
 struct PlayResult {

@@ -33,6 +33,7 @@ struct Sensors {
   std::array<bool, 2> footContact{};                                  ///< left, right
   std::array<double, 2> footForce{};                                  ///< contact normal force, left, right [N]
   std::array<double, 2> footHeight{};  ///< sole height above z = 0, left, right [m]: foot-link origin - kSoleDepth
+  std::array<Eigen::Vector3d, 2> footPosition{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  ///< foot-link origins (ankle roll), world [m]
   Eigen::Vector3d centreOfMass = Eigen::Vector3d::Zero();             ///< world [m]
   double tilt = 0;                                                    ///< angle between pelvis Z and world Z [rad]
 };

@@ -282,11 +282,12 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     g.termination = t->get("termination") != nullptr;
     g.randomisation = t->get("randomisation") != nullptr;
     if (const toml::table* c = r.table(*t, "commands", false, where)) {
-      r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "pelvis_height", "zero_probability", "resample_s",
+      r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "amplitude_zero", "pelvis_height", "zero_probability", "resample_s",
                        "resample_jitter", "ramp", "line_hold", "steer"},
                  where + ".commands");
       s.commands.amplitude = r.range(*c, "amplitude", {}, 0, 1, where + ".commands");
       s.commands.amplitudeRate = r.number(*c, "amplitude_rate", 0, 0, 100, where + ".commands");
+      s.commands.amplitudeZero = r.number(*c, "amplitude_zero", 0, 0, 1, where + ".commands");
       if (const toml::node* h = c->get("pelvis_height")) {
         const toml::array* a = h->as_array();
         if (!a || a->size() != 2) throw Error(located(path, r.line(*h), where + ".commands.pelvis_height must be [at amplitude 0, at 1]"));

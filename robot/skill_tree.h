@@ -75,6 +75,7 @@ struct CommandDef {
   Range amplitude;               ///< sampling range of the amplitude command (0..1), drawn with every command
   double amplitudeRate = 0;      ///< the amplitude moves toward each new draw at this rate [1/s] (0 = at once);
                                  ///< 1.0 is the R / F keys' rate
+  double amplitudeZero = 0;      ///< chance that an amplitude draw is 0 instead (the skill at rest, as play enters it)
   Range pelvisHeight{0.78, 0.78};  ///< pelvis height target at amplitude 0 (lo) and 1 (hi) [m], for height_track
   double zeroProbability = 0.2;  ///< chance that a sampled command is all zero
   /// true: vx / vy / wz reach each new draw at the keyboard's rates with its one-axis interlock

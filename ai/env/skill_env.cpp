@@ -153,6 +153,8 @@ void SkillEnv::sampleCommand(Env& e) {
   drawVelocity(e.rng, c, &e.command);
   if (c.amplitude.hi > 0) {
     e.amplitudeTarget = uniform(e.rng, c.amplitude);
+    // drawn only when asked for, so other skills' streams are unchanged
+    if (c.amplitudeZero > 0 && unit(e.rng) < c.amplitudeZero) e.amplitudeTarget = 0.0;
     e.command.amplitude = c.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
   }
   robot::takeCommandDraw(now, c.ramp, &e.command, &e.target);

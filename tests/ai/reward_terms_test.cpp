@@ -198,3 +198,24 @@ TEST(RewardTerms, CrawlTermsMeasureAlongTheWayTheHeadPointsWhateverThePosture) {
   EXPECT_NEAR(term("crawl_line", ctx), 1.0, 1e-12);
   EXPECT_NEAR(term("heading_hold", ctx), 1.0, 1e-12);
 }
+
+TEST(RewardTerms, WeightCentredWantsTheCentreOfMassBetweenTheFeetThenOverTheLeftOneAsTheFirstStageShiftsIt) {
+  Context c;
+  c.skill.prior.kind = robot::PriorDef::Kind::Pose;
+  c.skill.prior.hasLate = true;  // the one-leg stand: first half of the amplitude shifts the weight, second lifts
+  c.sensors.yaw = M_PI / 2;      // facing +Y: sideways is -X (the robot's left)
+  c.sensors.footPosition = {Eigen::Vector3d(-0.10, 0.0, 0.035), Eigen::Vector3d(0.10, 0.05, 0.035)};  // left, right
+  c.sensors.centreOfMass = Eigen::Vector3d(0.0, 0.3, 0.7);  // over the midpoint sideways (0.3 m ahead does not count)
+  c.command.amplitude = 0.0;
+  EXPECT_NEAR(term("weight_centred", c.get()), 1.0, 1e-12);
+  c.sensors.centreOfMass.x() = -0.05;  // 0.05 m to the left: exp(-1)
+  EXPECT_NEAR(term("weight_centred", c.get()), std::exp(-1.0), 1e-12);
+  c.command.amplitude = 0.25;  // half-way through the shift: the target is 0.05 m to the left
+  EXPECT_NEAR(term("weight_centred", c.get()), 1.0, 1e-12);
+  c.command.amplitude = 0.8;  // shift done: over the left foot, 0.05 m away
+  EXPECT_NEAR(term("weight_centred", c.get()), std::exp(-1.0), 1e-12);
+  c.sensors.centreOfMass.x() = -0.10;
+  EXPECT_NEAR(term("weight_centred", c.get()), 1.0, 1e-12);
+  c.skill.prior.hasLate = false;  // other skills: always between the feet
+  EXPECT_NEAR(term("weight_centred", c.get()), std::exp(-4.0), 1e-12);
+}

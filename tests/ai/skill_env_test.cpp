@@ -570,3 +570,38 @@ TEST(SkillEnv, TheLiftedFootTouchingDownEndsTheEpisodeOnlyOnceTheLiftHasBeenAske
   EXPECT_EQ(terminationTick(0.3), firstAsked + 30 - 1);  // the 30th tick of the lift asked, the foot still down
   EXPECT_EQ(terminationTick(1.0), firstAsked + 100 - 1);
 }
+
+TEST(SkillEnv, AmplitudeZeroMakesThatShareOfTheAmplitudeDrawsZero) {
+  robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
+  oneLeg.handover = 0;
+  oneLeg.commands.amplitude = {0.5, 1.0};  // a draw is never 0 by itself
+  oneLeg.commands.amplitudeRate = 0.0;     // at once, so every draw shows in the observation
+  oneLeg.commands.resampleSeconds = 0.1;   // a draw every 10 ticks
+  oneLeg.termination.maxTiltDegrees = 180.0;  // nothing ends the episodes
+  oneLeg.termination.minHeight = -10.0;
+  oneLeg.termination.episodeSeconds = 100.0;
+  oneLeg.termination.liftedFootTouchSeconds = 0.0;
+  const int slot = robot::kObsCommand + 3;
+  auto zeroShare = [&](double p) {
+    robot::SkillDef s = oneLeg;
+    s.commands.amplitudeZero = p;
+    ai::SkillEnv env(fixture().model, s, fixture().tree.path, envOptions(4, 1, false));
+    Eigen::MatrixXf obs;
+    env.reset(5, &obs);
+    ai::StepResult r;
+    int zero = 0, draws = 0;
+    for (int k = 1; k <= 1000; ++k) {
+      env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 4), &r);
+      if (k % 10 != 5) continue;  // once per draw, between the draws
+      for (int i = 0; i < 4; ++i, ++draws) {
+        const float a = r.observations(slot, i);
+        if (a == 0.0f) ++zero;
+        else EXPECT_GE(a, 0.5f);
+      }
+    }
+    return double(zero) / draws;
+  };
+  EXPECT_EQ(zeroShare(0.0), 0.0);
+  EXPECT_NEAR(zeroShare(0.25), 0.25, 0.07);  // 400 draws: one standard deviation is 0.022
+  EXPECT_EQ(zeroShare(1.0), 1.0);
+}
