@@ -90,18 +90,18 @@ double heightTrack(const RewardContext& c) {
   return std::exp(-e * e);
 }
 
-// the centre of mass sideways (across the pelvis's heading) over the point between the feet, moved toward the left
-// foot as a two-stage pose's first stage moves the weight there (the one-leg stand: between the feet at amplitude 0,
-// where play stands before the kick, over the left foot from half the amplitude on)
+// the centre of mass sideways (across the pelvis's heading) over the point between the feet while a two-stage
+// pose's first stage has not moved the weight (the one-leg stand at amplitude 0, where play stands before the
+// kick); the term fades to 1 as that stage moves the weight over the left foot: where it balances there (3-5 cm
+// inside the ankle, session 22) is the policy's to find
 double weightCentred(const RewardContext& c) {
   const robot::Sensors& s = *c.sensors;
   double first = 0.0, late = 0.0;
   if (c.skill->prior.hasLate) robot::poseStages(c.skill->prior, c.command->amplitude, &first, &late);
-  const Eigen::Vector2d left = s.footPosition[0].head<2>(), middle = 0.5 * (left + s.footPosition[1].head<2>());
-  const Eigen::Vector2d target = middle + first * (left - middle);
+  const Eigen::Vector2d middle = 0.5 * (s.footPosition[0] + s.footPosition[1]).head<2>();
   const Eigen::Vector2d across(-std::sin(s.yaw), std::cos(s.yaw));
-  const double e = (s.centreOfMass.head<2>() - target).dot(across) / 0.05;
-  return std::exp(-e * e);
+  const double e = (s.centreOfMass.head<2>() - middle).dot(across) / 0.05;
+  return 1.0 - (1.0 - first) * (1.0 - std::exp(-e * e));
 }
 
 double standStill(const RewardContext& c) {
@@ -196,7 +196,7 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"pushup_height", &pushUpHeight, "exp(-((h - h_cycle) / 0.05 m)^2), h_cycle = 0.11 m + 0.10 m (1 - cos 2 pi u) / 2 through the repeating prior's cycle u"},
       {"stood", &stood, "1 while standing: pelvis >= 0.70 m and tilt < 10 deg (robot::hasStoodUp)"},
       {"foot_clear", &footClear, "clamp(h_right_sole / (0.12 m lift), 0, 1); 1 when no lift is asked, 0 while the right foot touches the ground (lift as for foot_lift)"},
-      {"weight_centred", &weightCentred, "exp(-(d / 0.05 m)^2), d: the centre of mass's sideways offset (pelvis heading) from the feet's midpoint moved toward the left foot by a two-stage pose's first-stage weight"},
+      {"weight_centred", &weightCentred, "1 - (1 - w)(1 - exp(-(d / 0.05 m)^2)), d: the centre of mass's sideways offset (pelvis heading) from the feet's midpoint, w: a two-stage pose's first-stage weight (0 otherwise)"},
       {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m lift) / 0.04 m)^2), lift = amplitude or a two-stage pose's late weight; 0 while the right foot touches the ground"},
   };
   return kTable;

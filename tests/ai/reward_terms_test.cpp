@@ -199,7 +199,7 @@ TEST(RewardTerms, CrawlTermsMeasureAlongTheWayTheHeadPointsWhateverThePosture) {
   EXPECT_NEAR(term("heading_hold", ctx), 1.0, 1e-12);
 }
 
-TEST(RewardTerms, WeightCentredWantsTheCentreOfMassBetweenTheFeetThenOverTheLeftOneAsTheFirstStageShiftsIt) {
+TEST(RewardTerms, WeightCentredWantsTheCentreOfMassBetweenTheFeetUntilThePoseShiftsTheWeight) {
   Context c;
   c.skill.prior.kind = robot::PriorDef::Kind::Pose;
   c.skill.prior.hasLate = true;  // the one-leg stand: first half of the amplitude shifts the weight, second lifts
@@ -210,12 +210,10 @@ TEST(RewardTerms, WeightCentredWantsTheCentreOfMassBetweenTheFeetThenOverTheLeft
   EXPECT_NEAR(term("weight_centred", c.get()), 1.0, 1e-12);
   c.sensors.centreOfMass.x() = -0.05;  // 0.05 m to the left: exp(-1)
   EXPECT_NEAR(term("weight_centred", c.get()), std::exp(-1.0), 1e-12);
-  c.command.amplitude = 0.25;  // half-way through the shift: the target is 0.05 m to the left
-  EXPECT_NEAR(term("weight_centred", c.get()), 1.0, 1e-12);
-  c.command.amplitude = 0.8;  // shift done: over the left foot, 0.05 m away
-  EXPECT_NEAR(term("weight_centred", c.get()), std::exp(-1.0), 1e-12);
-  c.sensors.centreOfMass.x() = -0.10;
+  c.command.amplitude = 0.25;  // half-way through the shift: half the shortfall
+  EXPECT_NEAR(term("weight_centred", c.get()), 1.0 - 0.5 * (1.0 - std::exp(-1.0)), 1e-12);
+  c.command.amplitude = 0.8;  // shift done: wherever the weight is
   EXPECT_NEAR(term("weight_centred", c.get()), 1.0, 1e-12);
   c.skill.prior.hasLate = false;  // other skills: always between the feet
-  EXPECT_NEAR(term("weight_centred", c.get()), std::exp(-4.0), 1e-12);
+  EXPECT_NEAR(term("weight_centred", c.get()), std::exp(-1.0), 1e-12);
 }
