@@ -280,6 +280,30 @@ TEST(Cli, OutputFoldersAreCreated) {
   EXPECT_TRUE(fs::exists(d + "/a/b/summary.txt"));
 }
 
+TEST(Cli, TheLogSaysWhereTheWeightIsBetweenTheFeet) {
+  const std::string d = tempDir("log");
+  const CliRun r = run("play levels/steps --seconds 1 --log " + d + "/com.csv");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string csv = engine::readFile(d + "/com.csv");
+  ASSERT_EQ(csv.substr(0, csv.find('\n')), "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s,com_y_m,yaw_rad,com_left_of_feet_m");
+  // the robot stands where it spawned (levels/steps: y = 2.3 facing +X) on its symmetric stance: the centre of mass
+  // is at y 2.3 and between the feet
+  const size_t row = csv.find("\n0.50,stand,");
+  ASSERT_NE(row, std::string::npos) << csv.substr(0, 400);
+  std::vector<double> v;
+  size_t at = csv.find(',', csv.find(',', row + 1) + 1);  // after "t,skill,"
+  const size_t end = csv.find('\n', row + 1);
+  while (at < end) {
+    const size_t next = std::min(csv.find(',', at + 1), end);
+    v.push_back(std::stod(csv.substr(at + 1, next - at - 1)));
+    at = next;
+  }
+  ASSERT_EQ(v.size(), 6u);  // x, height, forward speed, y, heading, left of the feet
+  EXPECT_LT(std::abs(v[4]), 0.01);          // still facing +X
+  EXPECT_NEAR(v[3], 2.3, 0.02);             // y across the course
+  EXPECT_LT(std::abs(v[5]), 0.02);          // measured from the feet, not the course (the sign: RewardTerms.WeightCentred*)
+}
+
 TEST(Cli, FramesAndVideoAreWritten) {
   const std::string d = tempDir("frames");
   const CliRun r = run("play levels/steps --seconds 0.5 --fps 20 --frames " + d + "/png --video " + d + "/v.mp4 --summary " +
