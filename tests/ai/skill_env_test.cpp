@@ -47,6 +47,14 @@ std::vector<float> rollout(int threads, uint64_t seed, int steps) {
   return trace;
 }
 
+// nothing ends the skill's episodes (no tilt, height, time or lifted-foot limit): only what a test watches changes
+void neverEnds(robot::SkillDef* s) {
+  s->termination.maxTiltDegrees = 180.0;
+  s->termination.minHeight = -10.0;
+  s->termination.episodeSeconds = 100.0;
+  s->termination.liftedFootTouchSeconds = 0.0;
+}
+
 }  // namespace
 
 TEST(SkillEnv, SameSeedGivesTheSameRolloutOnOneOrTwoThreads) {
@@ -353,9 +361,7 @@ TEST(SkillEnv, JitteredCommandIntervalsVaryWithinTheirBand) {
   walk.commands.zeroProbability = 0.0;
   walk.commands.resampleSeconds = 1.0;
   walk.commands.resampleJitter = 0.5;  // 0.5 .. 1.5 s
-  walk.termination.episodeSeconds = 100.0;
-  walk.termination.maxTiltDegrees = 180.0;  // nothing ends the episode: only command changes are watched
-  walk.termination.minHeight = -10.0;
+  neverEnds(&walk);  // only command changes are watched
   ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(1, 1, false));
   Eigen::MatrixXf obs;
   env.reset(9, &obs);
@@ -577,10 +583,7 @@ TEST(SkillEnv, AmplitudeZeroMakesThatShareOfTheAmplitudeDrawsZero) {
   oneLeg.commands.amplitude = {0.5, 1.0};  // a draw is never 0 by itself
   oneLeg.commands.amplitudeRate = 0.0;     // at once, so every draw shows in the observation
   oneLeg.commands.resampleSeconds = 0.1;   // a draw every 10 ticks
-  oneLeg.termination.maxTiltDegrees = 180.0;  // nothing ends the episodes
-  oneLeg.termination.minHeight = -10.0;
-  oneLeg.termination.episodeSeconds = 100.0;
-  oneLeg.termination.liftedFootTouchSeconds = 0.0;
+  neverEnds(&oneLeg);
   const int slot = robot::kObsCommand + 3;
   auto zeroShare = [&](double p) {
     robot::SkillDef s = oneLeg;
