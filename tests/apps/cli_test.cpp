@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -290,14 +291,11 @@ TEST(Cli, TheLogSaysWhereTheWeightIsBetweenTheFeet) {
   // is at y 2.3 and between the feet
   const size_t row = csv.find("\n0.50,stand,");
   ASSERT_NE(row, std::string::npos) << csv.substr(0, 400);
+  std::istringstream line(csv.substr(row + 1, csv.find('\n', row + 1) - row - 1));
   std::vector<double> v;
-  size_t at = csv.find(',', csv.find(',', row + 1) + 1);  // after "t,skill,"
-  const size_t end = csv.find('\n', row + 1);
-  while (at < end) {
-    const size_t next = std::min(csv.find(',', at + 1), end);
-    v.push_back(std::stod(csv.substr(at + 1, next - at - 1)));
-    at = next;
-  }
+  std::string field;
+  for (int i = 0; std::getline(line, field, ','); ++i)
+    if (i >= 2) v.push_back(std::stod(field));  // after "t,skill,"
   ASSERT_EQ(v.size(), 6u);  // x, height, forward speed, y, heading, left of the feet
   EXPECT_LT(std::abs(v[4]), 0.01);          // still facing +X
   EXPECT_NEAR(v[3], 2.3, 0.02);             // y across the course
