@@ -128,6 +128,7 @@ double standHeight(const RewardContext& c) {
 }
 double upright(const RewardContext& c) { return std::max(0.0, std::cos(c.sensors->tilt)); }
 double stood(const RewardContext& c) { return robot::hasStoodUp(*c.sensors) ? 1.0 : 0.0; }
+double feetDown(const RewardContext& c) { return c.sensors->footContact[0] && c.sensors->footContact[1] ? 1.0 : 0.0; }
 double crawlVelocity(const RewardContext& c) {
   const Eigen::Vector2d h = robot::groundHeading(*c.sensors);
   const Eigen::Vector2d v = (c.sensors->baseRotation * c.sensors->linearVelocity).head<2>();
@@ -194,6 +195,7 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"heading_hold", &headingHold, "exp(-e^2 / 0.04), e: the heading's angle from the one the episode began with, turned by the commanded yaw rate since (robot::groundHeading)"},
       {"heading_rate", &headingRate, "exp(-(wz_world - wz_cmd)^2 / 0.02): turning about the vertical, whatever the posture (0.1 rad/s: 0.61)"},
       {"pushup_height", &pushUpHeight, "exp(-((h - h_cycle) / 0.05 m)^2), h_cycle = 0.11 m + 0.10 m (1 - cos 2 pi u) / 2 through the repeating prior's cycle u"},
+      {"feet_down", &feetDown, "1 while both feet touch the ground (a kick that ends standing on both feet, not stepping: the switch out of it waits for a settled stand)"},
       {"stood", &stood, "1 while standing: pelvis >= 0.70 m and tilt < 10 deg (robot::hasStoodUp)"},
       {"foot_clear", &footClear, "clamp(h_right_sole / (0.12 m lift), 0, 1); 1 when no lift is asked, 0 while the right foot touches the ground (lift as for foot_lift)"},
       {"weight_centred", &weightCentred, "1 - (1 - w)(1 - exp(-(d / 0.05 m)^2)), d: the centre of mass's sideways offset (pelvis heading) from the feet's midpoint, w: a two-stage pose's first-stage weight (0 otherwise)"},

@@ -146,6 +146,18 @@ TEST(RewardTerms, StandUpTermsGrowFromLyingToStanding) {
   EXPECT_EQ(term("stood", c.get()), 0.0);
 }
 
+TEST(RewardTerms, FeetDownPaysOnlyWithBothFeetOnTheGround) {
+  Context c;
+  c.sensors.footContact = {true, true};
+  EXPECT_EQ(term("feet_down", c.get()), 1.0);
+  c.sensors.footContact = {true, false};  // the kicking foot in the air
+  EXPECT_EQ(term("feet_down", c.get()), 0.0);
+  c.sensors.footContact = {false, true};
+  EXPECT_EQ(term("feet_down", c.get()), 0.0);
+  c.sensors.footContact = {false, false};  // in flight
+  EXPECT_EQ(term("feet_down", c.get()), 0.0);
+}
+
 TEST(RewardTerms, PushUpHeightFollowsThePriorsCycleDownAtItsStartUpHalfWay) {
   Context c;
   c.skill.prior.kind = robot::PriorDef::Kind::Keyframes;
