@@ -108,6 +108,7 @@ void Session::respawn(double x) {
   fadingFrom_ = nullptr;  // a fresh start: no prior to fade out
   fadeTicks_ = 0;
   restWaitTicks_ = -1;
+  postureWaitTicks_ = 0;
 }
 
 double Session::seconds() const { return double(tick_) * engine::kTickSeconds; }
@@ -163,7 +164,7 @@ void Session::controlSystem() {
     // seeds on levels/flat, asked for 0.5 s in, in 2 of 20 (7 s of jumping)
     const bool hopWait = !direct || (!active_ && robot::startsFromDefaultPose(next->def));
     bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (!hopWait || tick_ - activeSince_ >= kMinHopTicks) &&
-                 (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_));
+                 (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_, postureWaitTicks_));
     const bool inPhase = !active_ || !next || robot::phaseAllowsSwitch(active_->def, next->def, phase_);
     // a skill that starts from the default pose (the jump, the kick) waits for a squat or a lift to come back first
     if (next && active_ && robot::startsFromDefaultPose(next->def) && input_.state().amplitude > 0) {
@@ -188,9 +189,13 @@ void Session::controlSystem() {
     if (next && ready && inPhase) {  // (a skill that brakes first reaches its phase window within a cycle)
       switchTo(next);
       restWaitTicks_ = -1;
+      postureWaitTicks_ = 0;
+    } else {
+      ++postureWaitTicks_;
     }
   } else {
     restWaitTicks_ = -1;  // the request went away (or was reached)
+    postureWaitTicks_ = 0;
   }
   if (!active_) {
     robot_->setCommand(robot::Robot::standingCommand(model_));

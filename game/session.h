@@ -148,6 +148,7 @@ class Session {
   int fadeTicks_ = 0;                     // ticks of that fade left
   robot::PhaseClock fadePhase_;           // the previous skill's clock, going on under its prior during the fade
   int restWaitTicks_ = -1;                // ticks a waiting switch has waited (-1: none waiting; robot::switchWaits)
+  int postureWaitTicks_ = 0;              // ticks the requested switch (or its next hop) has waited on the posture
   robot::SkillCommand brake_;             // the velocity command ramping to rest or the next skill's top meanwhile
   robot::SkillCommand brakeTarget_;       // where brake_ ramps to (robot::switchBrakeTarget)
   std::array<float, robot::kActionSize> action_{};

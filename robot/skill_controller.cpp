@@ -241,9 +241,11 @@ bool isLyingStill(const Sensors& s) {
   return isLyingFaceDown(s) && (s.baseRotation * s.linearVelocity).norm() < kRestSpeed;
 }
 
-bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors) {
+bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors, int waitedTicks) {
   if (isGroundSkill(from) && isGroundSkill(to) && to.parent == from.name) return isLyingStill(sensors);
-  if ((startsFromDefaultPose(from) || startsFromDefaultPose(to)) && !isStandingSettled(sensors)) return false;
+  if (startsFromDefaultPose(to) && !isStandingSettled(sensors)) return false;
+  if (startsFromDefaultPose(from) && !(waitedTicks >= kMaxSettleWaitTicks ? restingLevel(sensors) : isStandingSettled(sensors)))
+    return false;
   if (!isGroundSkill(from) || isGroundSkill(to)) return true;
   return hasStoodUp(sensors) && restingLevel(sensors);
 }

@@ -197,7 +197,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
           addCeiling(*e.world, skill.terrain, e.start, std::atan2(e.along.y(), e.along.x()), 1.0,
                      o.crawlDistance + 2.5, skill.terrain.width, e.friction);
         }
-      } else if (standUp && e.stage == kRising && robot::postureAllowsSwitch(skill, *up.def, e.sensors)) {  // as the runtime does
+      } else if (standUp && e.stage == kRising && robot::postureAllowsSwitch(skill, *up.def, e.sensors, 0)) {  // as the runtime does
         if (e.standTick < 0) e.standTick = e.stageTick;
         e.handOverTick = e.stageTick;
         switchSkill(e, *up.def);

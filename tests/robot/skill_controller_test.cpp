@@ -490,17 +490,17 @@ TEST(Switching, AStandUpHandsOverToAnUprightSkillOnlyOnceTheRobotStandsStill) {
     s.footContact = {true, true};
     return s;
   };
-  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.12, 86, 0.0)));  // lying face down
-  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.40, 30, 0.0)));  // on hands and knees
-  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.72, 12, 0.0)));  // up, tilted 12 deg
-  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.72, 5, 0.4)));   // up, still rising at 0.4 m/s
-  EXPECT_TRUE(robot::postureAllowsSwitch(standup, walk, sensors(0.72, 5, 0.05)));   // standing, settled
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.12, 86, 0.0), 0));  // lying face down
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.40, 30, 0.0), 0));  // on hands and knees
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.72, 12, 0.0), 0));  // up, tilted 12 deg
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, sensors(0.72, 5, 0.4), 0));   // up, still rising at 0.4 m/s
+  EXPECT_TRUE(robot::postureAllowsSwitch(standup, walk, sensors(0.72, 5, 0.05), 0));   // standing, settled
   robot::Sensors airborne = sensors(0.78, 0, 0.0);
   airborne.footContact = {true, false};
-  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, airborne));  // one foot still coming down
+  EXPECT_FALSE(robot::postureAllowsSwitch(standup, walk, airborne, 0));  // one foot still coming down
   // between ground skills, or out of an upright one, posture never holds a switch back
-  EXPECT_TRUE(robot::postureAllowsSwitch(standup, crawl, sensors(0.12, 86, 0.0)));
-  EXPECT_TRUE(robot::postureAllowsSwitch(walk, standup, sensors(0.5, 25, 0.3)));
+  EXPECT_TRUE(robot::postureAllowsSwitch(standup, crawl, sensors(0.12, 86, 0.0), 0));
+  EXPECT_TRUE(robot::postureAllowsSwitch(walk, standup, sensors(0.5, 25, 0.3), 0));
 }
 
 TEST(Switching, AKeyPoseSkillTakesOverOnlyOnceTheRobotStandsSettled) {
@@ -510,16 +510,38 @@ TEST(Switching, AKeyPoseSkillTakesOverOnlyOnceTheRobotStandsSettled) {
   robot::Sensors s;
   s.basePosition = Eigen::Vector3d(0, 0, 0.78);
   s.footContact = {true, true};
-  EXPECT_TRUE(robot::postureAllowsSwitch(squat, jump, s));  // standing still
+  EXPECT_TRUE(robot::postureAllowsSwitch(squat, jump, s, 0));  // standing still
   s.qd[3] = 1.2;                                              // the left knee still bending (stepping in place)
-  EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s));
-  EXPECT_TRUE(robot::postureAllowsSwitch(squat, walk, s));   // a policy's skill takes over as before
+  EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s, 0));
+  EXPECT_TRUE(robot::postureAllowsSwitch(squat, walk, s, 0));   // a policy's skill takes over as before
   s.qd[3] = 0.1;
   s.footContact = {true, false};                              // one foot up
-  EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s));
+  EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s, 0));
   s.footContact = {true, true};
   s.linearVelocity = Eigen::Vector3d(0.4, 0, 0);              // moving
-  EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s));
+  EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s, 0));
+}
+
+TEST(Switching, OutOfAKeyPoseSkillAfterThreeSecondsRestOnBothFeetIsEnough) {
+  robot::SkillDef kick, oneLeg;
+  kick.name = "kick", oneLeg.name = "one_leg";
+  kick.prior.kind = robot::PriorDef::Kind::Keyframes;
+  robot::Sensors s;
+  s.basePosition = Eigen::Vector3d(0, 0, 0.78);
+  s.footContact = {true, true};
+  s.qd[9] = 1.5;  // a knee still moving as the kicking foot taps down: not settled
+  EXPECT_FALSE(robot::postureAllowsSwitch(kick, oneLeg, s, 0));
+  EXPECT_FALSE(robot::postureAllowsSwitch(kick, oneLeg, s, robot::kMaxSettleWaitTicks - 1));
+  EXPECT_TRUE(robot::postureAllowsSwitch(kick, oneLeg, s, robot::kMaxSettleWaitTicks));  // at rest on both feet
+  EXPECT_FALSE(robot::postureAllowsSwitch(oneLeg, kick, s, robot::kMaxSettleWaitTicks));  // into it: settled only
+  s.footContact = {true, false};  // the foot in the air
+  EXPECT_FALSE(robot::postureAllowsSwitch(kick, oneLeg, s, robot::kMaxSettleWaitTicks));
+  s.footContact = {true, true};
+  s.angularVelocity = Eigen::Vector3d(0, 0, 0.5);  // turning on the spot faster than 0.3 rad/s
+  EXPECT_FALSE(robot::postureAllowsSwitch(kick, oneLeg, s, robot::kMaxSettleWaitTicks));
+  s.angularVelocity = Eigen::Vector3d::Zero();
+  s.linearVelocity = Eigen::Vector3d(0, 0, -0.3);  // sinking into a landing
+  EXPECT_FALSE(robot::postureAllowsSwitch(kick, oneLeg, s, robot::kMaxSettleWaitTicks));
 }
 
 TEST(Switching, ASkillWithAPhaseWindowTakesOverOnlyInThatPartOfTheGaitCycle) {
@@ -553,10 +575,10 @@ TEST(Switching, AGroundBranchTakesOverFromProneOnlyOnceTheRobotLiesStill) {
     s.linearVelocity = s.baseRotation.inverse() * Eigen::Vector3d(0, 0, -speed);  // sinking, body frame
     return s;
   };
-  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.78, 0, 0.0)));   // still standing (prone's first tick)
-  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.40, 60, 0.5)));  // going down onto the hands
-  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 86, 0.3)));  // down, still sinking
-  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 50, 0.0)));  // low, but not face down
-  EXPECT_TRUE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 86, 0.05)));  // lying face down, still
-  EXPECT_TRUE(robot::postureAllowsSwitch(pushup, prone, sensors(0.20, 60, 0.3)));   // back down: not held
+  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.78, 0, 0.0), 0));   // still standing (prone's first tick)
+  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.40, 60, 0.5), 0));  // going down onto the hands
+  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 86, 0.3), 0));  // down, still sinking
+  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 50, 0.0), 0));  // low, but not face down
+  EXPECT_TRUE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 86, 0.05), 0));  // lying face down, still
+  EXPECT_TRUE(robot::postureAllowsSwitch(pushup, prone, sensors(0.20, 60, 0.3), 0));   // back down: not held
 }
