@@ -279,9 +279,10 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
     for (int t = 0;; ++t) {
       if (t >= run) {  // the switch, once the skill's brake (if it waits) and the gait phase allow it
         if (waits) target = robot::switchBrakeTarget(p, next, target);
+        const bool posture = robot::postureAllowsSwitch(p, next, *sensors, t - run);
         bool ready = !waits || t - run >= robot::maxSwitchWaitTicks(next) ||
-                           (robot::readyForSwitch(p, next, target, command, *sensors) && robot::postureAllowsSwitch(p, next, *sensors, t - run));
-        if (robot::startsFromDefaultPose(p) && !robot::postureAllowsSwitch(p, next, *sensors, t - run)) {  // a settled stand first
+                     (robot::readyForSwitch(p, next, target, command, *sensors) && posture);
+        if (robot::startsFromDefaultPose(p) && !posture) {  // a settled stand first
           if (t - run >= 2 * robot::kMaxRestWaitTicks) return false;
           ready = false;
         }
