@@ -217,6 +217,7 @@ void Session::controlSystem() {
     // a ball skill sees the level's ball where training showed it its own (aux slots, heading frame)
     robot::ballIntoCommand(sensors_, physics_.ballState(course_->firstBall()).position, &command);
   }
+  if (active_->def.commands.lineCommand) robot::lineIntoCommand(sensors_, skillLineStart_, skillLineAlong_, &command);
   double s, co;
   robot::phaseSignal(phase_.tp, active_->def.prior.halfPeriodTicks, &s, &co);
   robot::Observation o;
@@ -278,6 +279,8 @@ void Session::switchTo(const SkillRuntime* next) {
   // robot 0.66 m off the stairs' line turned 1.6 rad back toward it and fell; taking the heading of the moment
   // instead, the run took over the walk's lean back to its line, 0.19 rad, and ran into levels/mario's wall)
   lineStart_ = sensors_.basePosition.head<2>();
+  skillLineStart_ = lineStart_;  // a line-keeping skill (the crawl) keeps to the one it begins on, as it trained
+  skillLineAlong_ = robot::groundHeading(sensors_);
   // the keys drive the new skill's command ranges (W to its top speed, and so on)
   const robot::CommandDef& r = next->def.commands;
   engine::CommandLimits limits = input_.limits();

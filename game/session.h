@@ -161,6 +161,8 @@ class Session {
   int stuckTicks_ = 0;     // ticks slumped in an upright skill (kStuckTicks)
   double headingRef_ = 0;  // the heading W holds (holdHeading) ...
   Eigen::Vector2d lineStart_ = Eigen::Vector2d::Zero();  // ... and a point of the line it keeps to
+  // a skill with [commands] line_command: the line it began on (where it took over, the way it faced then)
+  Eigen::Vector2d skillLineStart_ = Eigen::Vector2d::Zero(), skillLineAlong_ = Eigen::Vector2d::UnitX();
 };
 
 }  // namespace game

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "robot/skill_controller.h"
+
 namespace robot {
 
 void buildObservation(const Sensors& s, const RobotModel& model, const std::array<float, kActionSize>& previousAction,
@@ -30,6 +32,14 @@ void ballIntoCommand(const Sensors& sensors, const Eigen::Vector3d& ball, SkillC
   const double c = std::cos(sensors.yaw), s = std::sin(sensors.yaw);
   command->aux0 = std::clamp(c * d.x() + s * d.y(), -5.0, 5.0);
   command->aux1 = std::clamp(-s * d.x() + c * d.y(), -5.0, 5.0);
+}
+
+void lineIntoCommand(const Sensors& sensors, const Eigen::Vector2d& start, const Eigen::Vector2d& along,
+                     SkillCommand* command) {
+  const Eigen::Vector2d h = groundHeading(sensors);
+  const Eigen::Vector2d d = sensors.basePosition.head<2>() - start;
+  command->aux0 = std::atan2(along.x() * h.y() - along.y() * h.x(), along.dot(h));
+  command->aux1 = std::clamp(along.x() * d.y() - along.y() * d.x(), -2.0, 2.0);
 }
 
 }  // namespace robot

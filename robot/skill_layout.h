@@ -52,6 +52,14 @@ struct SkillCommand {
 /// command.aux1 (left) [m], clamped to +-5 m: how ball skills (kick) see their ball.
 void ballIntoCommand(const Sensors& sensors, const Eigen::Vector3d& ball, SkillCommand* command);
 
+/// Puts the line a skill keeps to ([commands] line_command: the crawl, a tunnel's middle) into command.aux0 and
+/// command.aux1: aux0 is the ground heading's angle from the line's direction (robot::groundHeading; turned left
+/// > 0, in (-pi, pi]), aux1 the pelvis's offset across the line (left > 0, clamped to +-2 m). `start` is a point of
+/// the line, `along` its unit direction. Without them a policy sees only its yaw rate, so a drift it has made is
+/// out of its sight (the crawl's rewards for the line and the heading paid for what it could not observe).
+void lineIntoCommand(const Sensors& sensors, const Eigen::Vector2d& start, const Eigen::Vector2d& along,
+                     SkillCommand* command);
+
 /// Fills an observation from sensors, the model's default pose, the previous action, command and phase.
 void buildObservation(const Sensors& s, const RobotModel& model, const std::array<float, kActionSize>& previousAction,
                       const SkillCommand& command, double phaseSin, double phaseCos, Observation* out);

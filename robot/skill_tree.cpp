@@ -283,7 +283,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     g.randomisation = t->get("randomisation") != nullptr;
     if (const toml::table* c = r.table(*t, "commands", false, where)) {
       r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "amplitude_zero", "pelvis_height", "zero_probability", "resample_s",
-                       "resample_jitter", "ramp", "line_hold", "steer"},
+                       "resample_jitter", "ramp", "line_hold", "steer", "line_command"},
                  where + ".commands");
       s.commands.amplitude = r.range(*c, "amplitude", {}, 0, 1, where + ".commands");
       s.commands.amplitudeRate = r.number(*c, "amplitude_rate", 0, 0, 100, where + ".commands");
@@ -306,6 +306,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         const std::optional<bool> b = rp->is_boolean() ? rp->value<bool>() : std::nullopt;
         if (!b) throw Error(located(path, r.line(*rp), where + ".commands.ramp must be true or false"));
         s.commands.ramp = *b;
+      }
+      if (const toml::node* lc = c->get("line_command")) {
+        const std::optional<bool> b = lc->is_boolean() ? lc->value<bool>() : std::nullopt;
+        if (!b) throw Error(located(path, r.line(*lc), where + ".commands.line_command must be true or false"));
+        s.commands.lineCommand = *b;
       }
     }
     if (const toml::table* w = r.table(*t, "rewards", true, where))
@@ -376,6 +381,9 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.ball.y = off[1];
       s.ball.jitter = r.number(*bt, "jitter", 0.03, 0, 1, w);
       s.ball.absent = r.number(*bt, "absent", 0.0, 0, 1, w);
+      if (s.commands.lineCommand)
+        throw Error(located(path, r.line(*bt), w + ": a ball skill sees its ball in the aux command slots, so it cannot "
+                                               "also have [commands] line_command = true"));
     }
     if (const toml::table* tt = r.table(*t, "terrain", false, where)) {
       const std::string w = where + ".terrain";

@@ -327,8 +327,10 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
 void SkillEnv::observe(const Env& e, float* out) const {
   double s, c;
   robot::phaseSignal(e.phase.tp, skill_.prior.halfPeriodTicks, &s, &c);
+  robot::SkillCommand command = e.command;
+  if (skill_.commands.lineCommand) robot::lineIntoCommand(e.sensors, e.lineStart, e.lineHeading, &command);
   robot::Observation o;
-  robot::buildObservation(e.sensors, model_, e.action, e.command, s, c, &o);
+  robot::buildObservation(e.sensors, model_, e.action, command, s, c, &o);
   std::copy(o.begin(), o.end(), out);
 }
 

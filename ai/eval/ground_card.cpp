@@ -136,8 +136,11 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
       any[e.stage] = true;
       double s, c;
       robot::phaseSignal(e.phase.tp, e.driving->prior.halfPeriodTicks, &s, &c);
+      robot::SkillCommand command = e.stage == kRising ? e.command : still;
+      // a skill that keeps to a line sees the one it began on (the tunnel's middle: the card lays the tunnel there)
+      if (e.stage == kRising && e.driving->commands.lineCommand) robot::lineIntoCommand(e.sensors, e.start, e.along, &command);
       robot::Observation ob;
-      robot::buildObservation(e.sensors, model, e.action, e.stage == kRising ? e.command : still, s, c, &ob);
+      robot::buildObservation(e.sensors, model, e.action, command, s, c, &ob);
       for (int k = 0; k < robot::kObservationSize; ++k) obs(k, i) = ob[size_t(k)];
     }
     if (!any[0] && !any[1] && !any[2]) break;
@@ -191,9 +194,9 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
         e.lyingAtSwitch = robot::isLyingFaceDown(e.sensors);
         switchSkill(e, skill);
         e.stage = kRising;
+        e.start = e.sensors.basePosition.head<2>();  // the line the skill begins on
+        e.along = robot::groundHeading(e.sensors);
         if (crawl) {  // the tunnel over the robot, along the way it faces, from just behind its feet
-          e.start = e.sensors.basePosition.head<2>();
-          e.along = robot::groundHeading(e.sensors);
           addCeiling(*e.world, skill.terrain, e.start, std::atan2(e.along.y(), e.along.x()), 1.0,
                      o.crawlDistance + 2.5, skill.terrain.width, e.friction);
         }

@@ -608,3 +608,35 @@ TEST(SkillEnv, AmplitudeZeroMakesThatShareOfTheAmplitudeDrawsZero) {
   EXPECT_NEAR(zeroShare(0.25), 0.25, 0.07);  // 400 draws: one standard deviation is 0.022
   EXPECT_EQ(zeroShare(1.0), 1.0);
 }
+
+TEST(SkillEnv, ALineKeepingSkillSeesHowFarItHasDriftedFromTheLineItBeganOn) {
+  robot::SkillDef lined = *fixture().tree.find("walk");
+  lined.commands.lineCommand = true;
+  neverEnds(&lined);
+  robot::SkillDef plain = lined;
+  plain.commands.lineCommand = false;
+  constexpr int kAux0 = robot::kObsCommand + 4, kAux1 = robot::kObsCommand + 5;
+  ai::SkillEnv withLine(fixture().model, lined, fixture().tree.path, envOptions(2, 1, false));
+  ai::SkillEnv without(fixture().model, plain, fixture().tree.path, envOptions(2, 1, false));
+  Eigen::MatrixXf a, b;
+  withLine.reset(2, &a);
+  without.reset(2, &b);
+  for (int i = 0; i < 2; ++i) {  // the line starts where the robot stands, the way it faces
+    EXPECT_NEAR(a(kAux0, i), 0.0f, 1e-6f);
+    EXPECT_NEAR(a(kAux1, i), 0.0f, 1e-6f);
+  }
+  ai::StepResult ra, rb;
+  const Eigen::MatrixXf shove = Eigen::MatrixXf::Constant(robot::kActionSize, 2, 3.0f);  // throws it over
+  double drift = 0;
+  for (int s = 0; s < 200; ++s) {
+    withLine.step(shove, &ra);
+    without.step(shove, &rb);
+    for (int i = 0; i < 2; ++i) {
+      drift = std::max(drift, double(std::abs(ra.observations(kAux0, i)) + std::abs(ra.observations(kAux1, i))));
+      EXPECT_EQ(rb.observations(kAux0, i), 0.0f);  // a skill without the line keeps its aux slots at 0
+      EXPECT_EQ(rb.observations(kAux1, i), 0.0f);
+    }
+  }
+  EXPECT_GT(drift, 0.05);  // the fall turned it or moved it off its line, and it sees that
+  EXPECT_EQ(ra.rewards, rb.rewards);  // the same world: only what the policy is shown differs
+}

@@ -264,6 +264,13 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string badSteer = walk + "[skill.walk.commands]\nvx = [0, 1]\nsteer = 3\n";  // 3 rad/s: no heading hold
   EXPECT_NE(errorOf(badSteer).find("t.toml:21:"), std::string::npos) << errorOf(badSteer);
   EXPECT_NE(errorOf(badSteer).find("steer"), std::string::npos) << errorOf(badSteer);
+  const std::string badLine = walk + "[skill.walk.commands]\nvx = [0, 1]\nline_command = 1\n";
+  EXPECT_NE(errorOf(badLine).find("t.toml:21: skill.walk.commands.line_command must be true or false"), std::string::npos)
+      << errorOf(badLine);
+  const std::string lineAndBall = walk + "[skill.walk.commands]\nvx = [0, 1]\nline_command = true\n[skill.walk.ball]\n";
+  EXPECT_NE(errorOf(lineAndBall).find("t.toml:22: skill.walk.ball: a ball skill sees its ball in the aux command slots"),
+            std::string::npos)
+      << errorOf(lineAndBall);
   const std::string rootHandover = walk + "[skill.walk.training]\nhandover = 0.5\n";  // the root has no parent
   EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
       << errorOf(rootHandover);
@@ -439,6 +446,32 @@ TEST(KeyframesPrior, ARepeatingMotionWrapsItsClockToTheStart) {
     EXPECT_NE(std::string(e.what()).find("t.toml:4: skill.walk.prior.repeat: only a \"keyframes\" prior repeats"), std::string::npos)
         << e.what();
   }
+}
+
+TEST(LineCommand, AuxSlotsHoldTheHeadingErrorAndTheOffsetLeftOfTheLine) {
+  // upright, turned 0.2 rad left about z: the ground heading is the pelvis's x axis, (cos 0.2, sin 0.2)
+  robot::Sensors s;
+  s.baseRotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
+  s.basePosition = Eigen::Vector3d(1.0, 0.3, 0.78);
+  robot::SkillCommand c;
+  c.vx = 0.3;
+  robot::lineIntoCommand(s, Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), &c);
+  EXPECT_NEAR(c.aux0, 0.2, 1e-12);  // turned left of the line's direction
+  EXPECT_NEAR(c.aux1, 0.3, 1e-12);  // 0.3 m left of a line along +x
+  EXPECT_DOUBLE_EQ(c.vx, 0.3);      // the velocity slots are the keys'
+  // a line along +y through (0, 2): the pelvis at x = 1 is 1 m to its right, heading 0.2 rad is 1.37 rad right of it
+  robot::lineIntoCommand(s, Eigen::Vector2d(0, 2), Eigen::Vector2d(0, 1), &c);
+  EXPECT_NEAR(c.aux0, 0.2 - M_PI / 2, 1e-12);
+  EXPECT_NEAR(c.aux1, -1.0, 1e-12);
+  s.basePosition.x() = 5.0;  // the offset is clamped to 2 m
+  robot::lineIntoCommand(s, Eigen::Vector2d(0, 2), Eigen::Vector2d(0, 1), &c);
+  EXPECT_DOUBLE_EQ(c.aux1, -2.0);
+  // face down on all fours (pitched 90 deg nose down about y): the heading is the pelvis's z axis on the ground, +x
+  s.baseRotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+  s.basePosition = Eigen::Vector3d(2.0, -0.1, 0.3);
+  robot::lineIntoCommand(s, Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), &c);
+  EXPECT_NEAR(c.aux0, 0.0, 1e-12);
+  EXPECT_NEAR(c.aux1, -0.1, 1e-12);
 }
 
 TEST(Termination, GroundSkillsMayLieFaceDownButNotRollOntoTheirSideOrBack) {
