@@ -336,7 +336,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
       r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx",
-                        "handover_back", "handover_back_from", "handover_back_s"}, where + ".training");
+                        "handover_back", "handover_back_from", "handover_back_s", "line_jitter"}, where + ".training");
       if (const toml::node* op = tr->get("only_positive_rewards")) {
         auto b = op->value<bool>();
         if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
@@ -358,6 +358,13 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                                                "and this one, and there are none (handover_from is the parent)"));
       if (s.handover > 0 && s.parent.empty())
         throw Error(located(path, r.line(*tr->get("handover")), where + ".training.handover needs a parent skill"));
+      if (const toml::node* lj = tr->get("line_jitter")) {
+        if (!s.commands.lineCommand)
+          throw Error(located(path, r.line(*lj), where + ".training.line_jitter moves the line a skill sees, and it sees none "
+                                                 "([commands] line_command = true)"));
+        const std::array<double, 2> j = r.pair(*tr, "line_jitter", {0.0, 0.0}, 0.0, 2.0, where + ".training");
+        s.lineJitterHeading = j[0], s.lineJitterOffset = j[1];
+      }
       s.handoverBack = r.number(*tr, "handover_back", 0, 0, 1, where + ".training");
       s.handoverBackSeconds = r.range(*tr, "handover_back_s", {1.0, 3.0}, 0.01, 60, where + ".training");
       if (const toml::node* hb = tr->get("handover_back_from")) {

@@ -274,6 +274,9 @@ struct SkillDef {
   /// episodes starts with the child `handoverBackFrom`'s policy driving from the spawn stance (after the standing
   /// controller's kMinHopTicks, as play enters a key-pose skill) for handoverBackSeconds at a zero command, then
   /// switching to this skill as the runtime does (out of a key-pose skill: once the robot stands settled)
+  /// [training] line_jitter = [rad, m], with [commands] line_command: each episode's line is turned by U(-rad, rad)
+  /// about where the skill starts and moved across by U(-m, m), so that it starts off its line (0: on it)
+  double lineJitterHeading = 0, lineJitterOffset = 0;
   double handoverBack = 0;
   std::string handoverBackFrom;
   Range handoverBackSeconds{1.0, 3.0};

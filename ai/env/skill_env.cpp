@@ -215,6 +215,10 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.previousAction = e.action;
   e.lineStart = e.sensors.basePosition.head<2>();  // the episode's motion starts here (after a handover: lying)
   e.lineHeading = robot::groundHeading(e.sensors);
+  if (skill_.lineJitterHeading > 0 || skill_.lineJitterOffset > 0) {  // (drawn only when asked for)
+    e.lineHeading = Eigen::Rotation2Dd(skill_.lineJitterHeading * (2.0 * unit(e.rng) - 1.0)) * e.lineHeading;
+    e.lineStart += skill_.lineJitterOffset * (2.0 * unit(e.rng) - 1.0) * Eigen::Vector2d(-e.lineHeading.y(), e.lineHeading.x());
+  }
   // [ball] absent: some episodes without one (drawn only when asked for, so other skills' episodes are unchanged)
   const bool ball = skill_.ball.enabled && !(skill_.ball.absent > 0 && unit(e.rng) < skill_.ball.absent);
   e.ball = ball ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;

@@ -62,6 +62,7 @@ struct Episode {
   // crawls: where the tunnel starts and its direction, the progress along it and how long it went without 0.1 m more
   Eigen::Vector2d start = Eigen::Vector2d::Zero(), along = Eigen::Vector2d::UnitX();
   double best = 0, side = 0;
+  double offset = 0, headingOff = 0;  // the latest offset across the tunnel [m] and heading from its axis [rad], left > 0
   int reachTick = -1, gainTick = 0, longestStall = 0;
   bool outside = false;
   double friction = 1;
@@ -171,7 +172,10 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
       if (e.stage == kRising && crawl) {
         const Eigen::Vector2d d = e.sensors.basePosition.head<2>() - e.start;
         const double progress = d.dot(e.along);
-        e.side = std::max(e.side, std::abs(d.dot(Eigen::Vector2d(-e.along.y(), e.along.x()))));
+        e.offset = d.dot(Eigen::Vector2d(-e.along.y(), e.along.x()));
+        const Eigen::Vector2d h = robot::groundHeading(e.sensors);
+        e.headingOff = std::atan2(e.along.x() * h.y() - e.along.y() * h.x(), e.along.dot(h));
+        e.side = std::max(e.side, std::abs(e.offset));
         if (progress >= e.best + 0.1) {
           e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
           e.best = progress, e.gainTick = e.stageTick;
@@ -307,10 +311,12 @@ CardResult crawlResult(const robot::SkillDef& skill, const robot::CardDef& o, co
                        const std::vector<Episode>& eps) {
   const int n = int(eps.size());
   const double limit = o.crawlDistance / o.crawlSpeed;  // the slowest that passes [s]
-  int success = 0, reached = 0, lying = 0, fellLying = 0, fellSkill = 0, outside = 0;
-  double seconds = 0, slowest = 0, stall = 0, progress = 0, side = 0;
+  int success = 0, reached = 0, lying = 0, fellLying = 0, fellSkill = 0, outside = 0, outLeft = 0, crawled = 0;
+  double seconds = 0, slowest = 0, stall = 0, progress = 0, side = 0, heading = 0, headingAbs = 0;
   for (const Episode& e : eps) {
     lying += e.lyingAtSwitch;
+    outLeft += e.outside && e.offset > 0;
+    if (e.fellIn != kLying) ++crawled, heading += e.headingOff, headingAbs += std::abs(e.headingOff);
     fellLying += e.fellIn == kLying;
     fellSkill += e.fellIn == kRising;
     outside += e.outside;
@@ -339,10 +345,13 @@ CardResult crawlResult(const robot::SkillDef& skill, const robot::CardDef& o, co
   res.figures.push_back({"mean progress along the tunnel [m]", progress / std::max(1, n), "(reported)", true});
   res.figures.push_back({"longest stall (no 0.1 m of progress) [s]", stall, "(reported)", true});
   res.figures.push_back({"largest drift across the tunnel (pelvis) [m]", side, "(reported)", true});
+  const double deg = 180.0 / M_PI / std::max(1, crawled);
+  res.figures.push_back({"heading off the tunnel's axis at the end, mean (left > 0) [deg]", heading * deg, "(reported)", true});
+  res.figures.push_back({"heading off the tunnel's axis at the end, mean of |.| [deg]", headingAbs * deg, "(reported)", true});
   std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(), parent.def->name.c_str());
   res.figures.push_back({name, pct * lying, "(reported)", true});
-  std::snprintf(name, sizeof name, "  falls: lying down %d; during %s %d; out of the tunnel's side %d", fellLying, skill.name.c_str(),
-                fellSkill, outside);
+  std::snprintf(name, sizeof name, "  falls: lying down %d; during %s %d; out of the tunnel's side %d (left %d, right %d)", fellLying,
+                skill.name.c_str(), fellSkill, outside, outLeft, outside - outLeft);
   res.figures.push_back({name, double(fellLying + fellSkill), "(reported)", true});
   res.pass = true;
   for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;

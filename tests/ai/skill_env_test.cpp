@@ -640,3 +640,24 @@ TEST(SkillEnv, ALineKeepingSkillSeesHowFarItHasDriftedFromTheLineItBeganOn) {
   EXPECT_GT(drift, 0.05);  // the fall turned it or moved it off its line, and it sees that
   EXPECT_EQ(ra.rewards, rb.rewards);  // the same world: only what the policy is shown differs
 }
+
+TEST(SkillEnv, LineJitterStartsEachEpisodeWithinItsBoundsOffTheLine) {
+  robot::SkillDef lined = *fixture().tree.find("walk");
+  lined.commands.lineCommand = true;
+  lined.lineJitterHeading = 0.3;
+  lined.lineJitterOffset = 0.2;
+  constexpr int kAux0 = robot::kObsCommand + 4, kAux1 = robot::kObsCommand + 5;
+  ai::SkillEnv env(fixture().model, lined, fixture().tree.path, envOptions(8, 1, false));
+  Eigen::MatrixXf obs;
+  env.reset(4, &obs);
+  double turned = 0, moved = 0;
+  for (int i = 0; i < 8; ++i) {
+    // the line is turned about the start and moved across it: the robot, still where it was, sees both at once
+    EXPECT_LE(std::abs(obs(kAux0, i)), 0.3f + 1e-5f);
+    EXPECT_LE(std::abs(obs(kAux1, i)), 0.2f + 1e-5f);
+    turned = std::max(turned, double(std::abs(obs(kAux0, i))));
+    moved = std::max(moved, double(std::abs(obs(kAux1, i))));
+  }
+  EXPECT_GT(turned, 0.05);  // eight draws of U(-0.3, 0.3) all within 0.05 of 0: chance (1/6)^8
+  EXPECT_GT(moved, 0.03);
+}

@@ -271,6 +271,10 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(lineAndBall).find("t.toml:22: skill.walk.ball: a ball skill sees its ball in the aux command slots"),
             std::string::npos)
       << errorOf(lineAndBall);
+  const std::string jitterNoLine = walk + "[skill.walk.training]\nline_jitter = [0.3, 0.3]\n";
+  EXPECT_NE(errorOf(jitterNoLine).find("t.toml:20: skill.walk.training.line_jitter moves the line a skill sees, and it sees none"),
+            std::string::npos)
+      << errorOf(jitterNoLine);
   const std::string rootHandover = walk + "[skill.walk.training]\nhandover = 0.5\n";  // the root has no parent
   EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
       << errorOf(rootHandover);
