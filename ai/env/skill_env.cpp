@@ -81,6 +81,7 @@ struct SkillEnv::Env {
   std::array<float, robot::kObservationSize> finalObservation{};
   Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // hold_position: where a zero command (or a push) began
   Eigen::Vector2d lineStart = Eigen::Vector2d::Zero(), lineHeading = Eigen::Vector2d::UnitX();  // crawl_line, heading_hold
+  double yawRateSmoothed = 0;  // line_turn: the world yaw rate, low-passed over kLineTurnSeconds
 };
 
 SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
@@ -224,6 +225,7 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.ball = ball ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
   if (e.ball >= 0) e.ballState = e.world->ballState(e.ball);
   e.tick = 0;
+  e.yawRateSmoothed = 0;
   e.liftAskedTicks = 0;
   e.episodeReturn = 0;
   // every episode starts at amplitude 0; a ramped velocity command goes on from the handover's, as the keys' ramp
@@ -399,10 +401,13 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead
     if (e.command.wz != 0.0) e.lineHeading = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.lineHeading;
 
+    const double yawRate = (e.sensors.baseRotation * e.sensors.angularVelocity).z();
+    e.yawRateSmoothed += (yawRate - e.yawRateSmoothed) * engine::kTickSeconds / kLineTurnSeconds;
+
     // reward
     RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_,
                       e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor, e.phase.tp,
-                      &e.lineStart, &e.lineHeading};
+                      &e.lineStart, &e.lineHeading, e.yawRateSmoothed};
     double reward = 0;
     for (size_t k = 0; k < terms_.size(); ++k) {
       const double v = terms_[k].weight * terms_[k].term->value(ctx);

@@ -14,6 +14,10 @@ double askedFootLift(const robot::SkillDef& skill, double amplitude) {
   return kFootLiftHeight * (skill.prior.hasLate ? late : amplitude);
 }
 
+double lineTurnTarget(double headingError, double offset) {
+  return std::clamp(-(kLineTurnPerRad * headingError + kLineTurnPerMetre * offset), -kLineTurnMax, kLineTurnMax);
+}
+
 namespace {
 
 constexpr double kDeg = 180.0 / M_PI;
@@ -148,6 +152,14 @@ double headingHold(const RewardContext& c) {
   const double e = std::atan2(c.lineHeading->x() * h.y() - c.lineHeading->y() * h.x(), c.lineHeading->dot(h));
   return std::exp(-e * e / 0.04);
 }
+// turning back toward the line, measured on the smoothed yaw rate: pays at once for a turn the heading shows later
+double lineTurn(const RewardContext& c) {
+  if (!c.lineStart || !c.lineHeading) return 0.0;
+  robot::SkillCommand line;
+  robot::lineIntoCommand(*c.sensors, *c.lineStart, *c.lineHeading, &line);
+  const double e = c.yawRateSmoothed - lineTurnTarget(line.aux0, line.aux1);
+  return std::exp(-e * e / 0.01);
+}
 double headingRate(const RewardContext& c) {
   const double e = (c.sensors->baseRotation * c.sensors->angularVelocity).z() - c.command->wz;
   return std::exp(-e * e / 0.02);
@@ -193,6 +205,7 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"crawl_velocity", &crawlVelocity, "exp(-((v_f - vx_cmd)^2 + (v_s - vy_cmd)^2) / 0.05), world velocity along / across the way the head points (pelvis z on the ground; pelvis x when upright)"},
       {"crawl_line", &crawlLine, "exp(-d^2 / 0.1), d: the pelvis's offset across the line the episode began on (start and heading after the handover)"},
       {"heading_hold", &headingHold, "exp(-e^2 / 0.04), e: the heading's angle from the one the episode began with, turned by the commanded yaw rate since (robot::groundHeading)"},
+      {"line_turn", &lineTurn, "exp(-(w_s - w*)^2 / 0.01), w_s: the world yaw rate low-passed over 1 s, w* = -(1 aux0 + 0.5 aux1) within +-0.2 rad/s: turning back toward the line the episode began on (aux as line_command shows it)"},
       {"heading_rate", &headingRate, "exp(-(wz_world - wz_cmd)^2 / 0.02): turning about the vertical, whatever the posture (0.1 rad/s: 0.61)"},
       {"pushup_height", &pushUpHeight, "exp(-((h - h_cycle) / 0.05 m)^2), h_cycle = 0.11 m + 0.10 m (1 - cos 2 pi u) / 2 through the repeating prior's cycle u"},
       {"feet_down", &feetDown, "1 while both feet touch the ground (a kick that ends standing on both feet, not stepping: the switch out of it waits for a settled stand)"},

@@ -29,7 +29,19 @@ struct RewardContext {
   /// the way the robot faced then (robot::groundHeading); nullptr where the environment does not track them
   const Eigen::Vector2d* lineStart = nullptr;
   const Eigen::Vector2d* lineHeading = nullptr;
+  /// line_turn: the world yaw rate low-passed over kLineTurnSeconds [rad/s] (a crawl's rock swings the raw rate)
+  double yawRateSmoothed = 0;
 };
+
+/// line_turn: the yaw rate's low-pass time constant [s], the turn asked per rad of heading error and per metre off
+/// the line [rad/s], and the most it asks [rad/s]
+constexpr double kLineTurnSeconds = 1.0;
+constexpr double kLineTurnPerRad = 1.0;
+constexpr double kLineTurnPerMetre = 0.5;
+constexpr double kLineTurnMax = 0.2;
+/// The turn toward the line line_turn asks for: -(kLineTurnPerRad aux0 + kLineTurnPerMetre aux1), within
+/// +-kLineTurnMax (aux0, aux1 as robot::lineIntoCommand gives them)
+double lineTurnTarget(double headingError, double offset);
 
 /// The pelvis height of the G1 standing in its default pose (reference/g1/FACTS.md) [m].
 constexpr double kStandingPelvisHeight = 0.784;

@@ -211,6 +211,27 @@ TEST(RewardTerms, CrawlTermsMeasureAlongTheWayTheHeadPointsWhateverThePosture) {
   EXPECT_NEAR(term("heading_hold", ctx), 1.0, 1e-12);
 }
 
+TEST(RewardTerms, LineTurnPaysForTurningBackTowardTheLine) {
+  Context c;
+  const Eigen::Vector2d start(0, 0), along(1, 0);
+  ai::RewardContext ctx = c.get();
+  EXPECT_EQ(term("line_turn", ctx), 0.0);  // no line tracked
+  ctx.lineStart = &start, ctx.lineHeading = &along;
+  // face down on all fours, 0.1 rad left of the line and 0.1 m left of it: the turn asked is -(0.1 + 0.05) rad/s
+  c.sensors.baseRotation = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
+  c.sensors.basePosition = Eigen::Vector3d(2.0, 0.1, 0.3);
+  EXPECT_NEAR(ai::lineTurnTarget(0.1, 0.1), -0.15, 1e-12);
+  ctx.yawRateSmoothed = -0.15;  // turning right as asked
+  EXPECT_NEAR(term("line_turn", ctx), 1.0, 1e-12);
+  ctx.yawRateSmoothed = 0.0;    // holding its wrong heading
+  EXPECT_NEAR(term("line_turn", ctx), std::exp(-0.0225 / 0.01), 1e-12);
+  ctx.yawRateSmoothed = 0.05;   // turning further away
+  EXPECT_NEAR(term("line_turn", ctx), std::exp(-0.04 / 0.01), 1e-12);
+  // far off: the turn asked is capped at 0.2 rad/s
+  EXPECT_DOUBLE_EQ(ai::lineTurnTarget(-0.5, -1.0), 0.2);
+  EXPECT_DOUBLE_EQ(ai::lineTurnTarget(0.0, 0.0), 0.0);
+}
+
 TEST(RewardTerms, WeightCentredWantsTheCentreOfMassBetweenTheFeetUntilThePoseShiftsTheWeight) {
   Context c;
   c.skill.prior.kind = robot::PriorDef::Kind::Pose;
