@@ -171,7 +171,10 @@ void speedBand(const SkillDef& from, const SkillDef& to, double* lo, double* hi)
 }
 }  // namespace
 
-int maxSwitchWaitTicks(const SkillDef& to) { return isStillSkill(to) ? kMaxRestWaitTicks : kMaxSlowWaitTicks; }
+int maxSwitchWaitTicks(const SkillDef& to) {
+  if (!isStillSkill(to)) return kMaxSlowWaitTicks;
+  return to.settleFirst ? kMaxSettleWaitTicks : kMaxRestWaitTicks;
+}
 
 bool switchWaits(const SkillDef& from, const SkillDef& to) {
   if (isStillSkill(from)) return false;
@@ -191,7 +194,7 @@ SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const S
 
 bool readyForSwitch(const SkillDef& from, const SkillDef& to, const SkillCommand& target, const SkillCommand& brake,
                     const Sensors& sensors) {
-  if (isStillSkill(to)) return commandIsZero(brake) && atRestForSwitch(sensors);
+  if (isStillSkill(to)) return commandIsZero(brake) && (to.settleFirst ? isStandingSettled(sensors) : atRestForSwitch(sensors));
   const Eigen::Vector3d v = sensors.baseRotation * sensors.linearVelocity;
   Eigen::Vector2d heading = (sensors.baseRotation * Eigen::Vector3d::UnitX()).head<2>();
   if (heading.norm() < 1e-6) return false;  // pitched straight up or down: no heading to move along

@@ -142,7 +142,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     const toml::table* t = v.as_table();
     if (!t) throw Error(located(path, s.line, where + " must be a table"));
     r.onlyKeys(*t, {"parent", "up", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
-                    "termination", "randomisation", "training", "card", "terrain", "curriculum", "ball", "ppo", "switch_in_phase"},
+                    "termination", "randomisation", "training", "card", "terrain", "curriculum", "ball", "ppo", "switch_in_phase", "settle_first"},
                where);
     if (const toml::node* p = t->get("parent")) {
       auto v2 = p->value<std::string>();
@@ -161,6 +161,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
     s.switchInPhase = r.range(*t, "switch_in_phase", {0.0, 1.0}, 0.0, 1.0, where);
+    if (const toml::node* sf = t->get("settle_first")) {
+      const std::optional<bool> b = sf->is_boolean() ? sf->value<bool>() : std::nullopt;
+      if (!b) throw Error(located(path, r.line(*sf), where + ".settle_first must be true or false"));
+      s.settleFirst = *b;
+    }
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
       r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat", "repeat_from"}, where + ".prior");

@@ -264,6 +264,9 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string badSteer = walk + "[skill.walk.commands]\nvx = [0, 1]\nsteer = 3\n";  // 3 rad/s: no heading hold
   EXPECT_NE(errorOf(badSteer).find("t.toml:21:"), std::string::npos) << errorOf(badSteer);
   EXPECT_NE(errorOf(badSteer).find("steer"), std::string::npos) << errorOf(badSteer);
+  const std::string badSettle = walk + "[skill.a]\nparent = \"walk\"\nkey = 1\nsettle_first = \"yes\"\n";
+  EXPECT_NE(errorOf(badSettle).find("t.toml:22: skill.a.settle_first must be true or false"), std::string::npos)
+      << errorOf(badSettle);
   const std::string badLine = walk + "[skill.walk.commands]\nvx = [0, 1]\nline_command = 1\n";
   EXPECT_NE(errorOf(badLine).find("t.toml:21: skill.walk.commands.line_command must be true or false"), std::string::npos)
       << errorOf(badLine);
@@ -557,6 +560,29 @@ TEST(Switching, AKeyPoseSkillTakesOverOnlyOnceTheRobotStandsSettled) {
   s.footContact = {true, true};
   s.linearVelocity = Eigen::Vector3d(0.4, 0, 0);              // moving
   EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s, 0));
+}
+
+TEST(Switching, ASettleFirstSkillWaitsForTheLegsToStopAndUpToThreeSeconds) {
+  robot::SkillDef walk, squat, oneLeg;
+  walk.name = "walk", squat.name = "squat", oneLeg.name = "one_leg";
+  walk.commands.vx = {-0.6, 1.2};
+  oneLeg.settleFirst = true;  // squat and one_leg: no velocity command, still skills
+  const robot::SkillCommand zero;
+  robot::Sensors s;
+  s.basePosition = Eigen::Vector3d(0, 0, 0.78);
+  s.footContact = {true, true};
+  s.linearVelocity = Eigen::Vector3d(0.1, 0, 0);  // at rest (slower than 0.15 m/s) ...
+  s.qd[0] = 1.0;                                  // ... the left hip still swinging
+  EXPECT_TRUE(robot::readyForSwitch(walk, squat, zero, zero, s));
+  EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, zero, s));
+  s.qd[0] = 0.1;  // legs still: settled
+  EXPECT_TRUE(robot::readyForSwitch(walk, oneLeg, zero, zero, s));
+  robot::SkillCommand braking;
+  braking.vx = 0.2;  // the walk still braking toward zero
+  EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, braking, s));
+  EXPECT_EQ(robot::maxSwitchWaitTicks(squat), robot::kMaxRestWaitTicks);  // 1.5 s, then the switch is forced
+  EXPECT_EQ(robot::maxSwitchWaitTicks(oneLeg), robot::kMaxSettleWaitTicks);  // 3 s
+  EXPECT_EQ(robot::maxSwitchWaitTicks(walk), robot::kMaxSlowWaitTicks);
 }
 
 TEST(Switching, OutOfAKeyPoseSkillAfterThreeSecondsRestOnBothFeetIsEnough) {
