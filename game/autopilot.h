@@ -49,6 +49,7 @@ struct Cues {
   int respawns = 0;           ///< times the robot has been put back at a checkpoint so far
   bool canJump = true;        ///< the jump key (4) has a loaded model
   double ballY = 0;           ///< ball centre y [m]
+  std::string skill;          ///< the skill in control, as the HUD names it ("stand": the standing controller)
 };
 
 /// Reads the cues from a running session.
@@ -93,6 +94,7 @@ class Autopilot {
   int pulses_ = 0;            // Approach: short W / S presses so far ...
   int64_t pulseTick_ = 0;     // ... and when the latest began
   double jumpedAtX_ = -1e9;   // where the last jump was (one per box)
+  int64_t standSince_ = -1;   // Balance: the tick the one-leg stand took over (-1: not yet)
   bool flew_ = false;         // the jump in progress has left the ground once
   bool stairsStarted_ = false;  // Stairs mode: at rest and the stairs key pressed ...
   bool climbed_ = false;        // ... and up the first step (higher than standing on flat ground)

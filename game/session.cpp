@@ -105,6 +105,7 @@ void Session::respawn(double x) {
     telemetry_.switches.back().respawn = true;
   }
   stuckTicks_ = 0;
+  drift_ = Eigen::Vector2d::Zero();
   fadingFrom_ = nullptr;  // a fresh start: no prior to fade out
   fadeTicks_ = 0;
   restWaitTicks_ = -1;
@@ -184,7 +185,8 @@ void Session::controlSystem() {
       // walk taking over a run at its top speed and braking at once fell in 3 of 4 seeds with W held
       const robot::SkillCommand wantedCommand = robot::isStillSkill(wanted->def) ? robot::SkillCommand{} : keysCommand;
       brakeTarget_ = robot::switchBrakeTarget(active_->def, next->def, wantedCommand);
-      ready = robot::readyForSwitch(active_->def, next->def, brakeTarget_, brake_, sensors_) || restWaitTicks_ >= robot::maxSwitchWaitTicks(next->def);
+      ready = robot::readyForSwitch(active_->def, next->def, brakeTarget_, brake_, sensors_, drift_.norm()) ||
+              restWaitTicks_ >= robot::maxSwitchWaitTicks(next->def);
     }
     if (next && ready && inPhase) {  // (a skill that brakes first reaches its phase window within a cycle)
       switchTo(next);
@@ -313,6 +315,7 @@ void Session::rulesSystem() {
   // kStuckTicks counts as down too (levels/mario's autopilot once leaned on the wall in the one-leg stand for 215 s)
   const bool slumped = active_ && !ground && (sensors_.tilt > kSwitchMaxTilt || sensors_.basePosition.z() < kStuckPelvisHeight);
   stuckTicks_ = slumped ? stuckTicks_ + 1 : 0;
+  robot::updateDrift(sensors_, &drift_);
   const SkillRuntime* way = ground && skills_ && !active_->def.up.empty() ? skills_->byName(active_->def.up) : nullptr;
   const bool risingTooLong = way && !robot::isGroundSkill(way->def) && tick_ - activeSince_ >= kStandUpTicks &&
                              sensors_.basePosition.z() < kStuckPelvisHeight;

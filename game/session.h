@@ -159,6 +159,7 @@ class Session {
   bool fallen_ = false, down_ = false;
   int64_t fallTick_ = -1;
   int stuckTicks_ = 0;     // ticks slumped in an upright skill (kStuckTicks)
+  Eigen::Vector2d drift_ = Eigen::Vector2d::Zero();  // the pelvis's low-passed velocity (robot::updateDrift)
   double headingRef_ = 0;  // the heading W holds (holdHeading) ...
   Eigen::Vector2d lineStart_ = Eigen::Vector2d::Zero();  // ... and a point of the line it keeps to
   // a skill with [commands] line_command: the line it began on (where it took over, the way it faced then)

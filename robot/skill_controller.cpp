@@ -155,6 +155,11 @@ bool atRestForSwitch(const Sensors& sensors) {
          sensors.footContact[1];
 }
 
+void updateDrift(const Sensors& sensors, Eigen::Vector2d* drift) {
+  const Eigen::Vector2d v = (sensors.baseRotation * sensors.linearVelocity).head<2>();
+  *drift += (v - *drift) * (0.01 / kDriftSeconds);  // one 0.01 s control tick (engine::kTickSeconds)
+}
+
 namespace {
 // the lowest forward speed a skill trains at: its vx.lo if positive and it has no vy or wz command (with one, the
 // keyboard's interlock trains it at vx = 0 too: the run turns on the spot), else at most 0
@@ -193,8 +198,8 @@ SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const S
 }
 
 bool readyForSwitch(const SkillDef& from, const SkillDef& to, const SkillCommand& target, const SkillCommand& brake,
-                    const Sensors& sensors) {
-  if (isStillSkill(to)) return commandIsZero(brake) && (to.settleFirst ? isStandingSettled(sensors) : atRestForSwitch(sensors));
+                    const Sensors& sensors, double drift) {
+  if (isStillSkill(to)) return commandIsZero(brake) && atRestForSwitch(sensors) && (!to.settleFirst || drift < kSettleDrift);
   const Eigen::Vector3d v = sensors.baseRotation * sensors.linearVelocity;
   Eigen::Vector2d heading = (sensors.baseRotation * Eigen::Vector3d::UnitX()).head<2>();
   if (heading.norm() < 1e-6) return false;  // pitched straight up or down: no heading to move along

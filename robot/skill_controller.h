@@ -164,12 +164,20 @@ bool switchWaits(const SkillDef& from, const SkillDef& to);
 /// walk's 1.2 m/s, not on toward an S key's -0.6, which it never trained for).
 SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const SkillCommand& wanted);
 /// True when the waiting switch may happen: the braking command `brake` has reached `target` (the
-/// switchBrakeTarget) and the pelvis has come to rest (still `to`; a settled stand for one with settle_first: the
-/// one-leg stand taking over 0.8 s after a sideways walk, at rest but the legs still moving, fell toward its lifted
-/// foot in 5 of 120 `eval switches` trials, none with settle_first) or moves forward within kSlowMargin of the
-/// band both skills train at and no slower than kTargetSlack below the target.
+/// switchBrakeTarget) and the pelvis has come to rest (still `to`; into one with settle_first, the robot has also
+/// stopped drifting: `drift`, its horizontal velocity low-passed over kDriftSeconds, is under kSettleDrift) or moves
+/// forward within kSlowMargin of the band both skills train at and no slower than kTargetSlack below the target.
 bool readyForSwitch(const SkillDef& from, const SkillDef& to, const SkillCommand& target, const SkillCommand& brake,
-                    const Sensors& sensors);
+                    const Sensors& sensors, double drift = 0.0);
+/// Into a settle_first skill (the one-leg stand) the robot has come to a stop: its drift (the pelvis's horizontal
+/// velocity low-passed over kDriftSeconds, which averages out the sway of stepping in place: 0-0.22 m/s each step)
+/// is under kSettleDrift [m/s]. Taking over at the first moment at rest after W was released, the one-leg stand fell
+/// in 4 of 6 seeds on levels/flat (session 25: the pelvis passes 0.15 m/s while the walk is still braking); the walk
+/// stepping in place never stills its legs, so a settled stand (isStandingSettled) would wait kMaxSettleWaitTicks.
+constexpr double kDriftSeconds = 0.4;
+constexpr double kSettleDrift = 0.04;
+/// One tick of the drift's low-pass: the world horizontal velocity of the pelvis into `drift` [m/s].
+void updateDrift(const Sensors& sensors, Eigen::Vector2d* drift);
 /// The gait counter at a switch keeps its fraction of the cycle under the new skill's period; a keyframes prior
 /// starts its motion from the beginning (tp = 0).
 void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase);

@@ -242,9 +242,9 @@ struct SkillDef {
   /// A switch into this skill from one with a phase prior waits until that skill's gait phase, as a fraction of
   /// its cycle (tp / 2 T1), is within this range (at most one cycle: robot::phaseAllowsSwitch). [0, 1]: any phase.
   Range switchInPhase{0.0, 1.0};
-  /// A still skill that stands on one foot (one_leg): a switch into it waits for a settled stand
-  /// (robot::isStandingSettled: at rest on both feet, the leg joints still) instead of rest alone, up to
-  /// kMaxSettleWaitTicks instead of kMaxRestWaitTicks (robot::readyForSwitch, robot::maxSwitchWaitTicks)
+  /// A still skill that stands on one foot (one_leg): a switch into it waits until the robot has stopped drifting
+  /// (robot::kSettleDrift) and is at rest on both feet, up to kMaxSettleWaitTicks instead of kMaxRestWaitTicks
+  /// (robot::readyForSwitch, robot::maxSwitchWaitTicks)
   bool settleFirst = false;
   std::string model;   ///< ONNX file name inside assets/skills/
   PriorDef prior;

@@ -278,6 +278,7 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
   }
   robot::PhaseClock fadePhase;
   int fadeTicks = 0;
+  Eigen::Vector2d drift = Eigen::Vector2d::Zero();  // the pelvis's low-passed velocity, as the session keeps it
   for (size_t k = 0; k + 1 < route.size(); ++k) {
     const robot::SkillDef& p = *route[k];
     const robot::SkillDef& next = *route[k + 1];
@@ -287,7 +288,7 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
         if (waits) target = robot::switchBrakeTarget(p, next, target);
         const bool posture = robot::postureAllowsSwitch(p, next, *sensors, t - run);
         bool ready = !waits || t - run >= robot::maxSwitchWaitTicks(next) ||
-                     (robot::readyForSwitch(p, next, target, command, *sensors) && posture);
+                     (robot::readyForSwitch(p, next, target, command, *sensors, drift.norm()) && posture);
         if (robot::startsFromDefaultPose(p) && !posture) {  // a settled stand first
           if (t - run >= 2 * robot::kMaxRestWaitTicks) return false;
           ready = false;
@@ -314,6 +315,7 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
       robot.setCommand(pd);
       stepControlTick(robot, world);
       *sensors = robot.sense(world);
+      robot::updateDrift(*sensors, &drift);
       if (robot::hasFallen(p.termination, *sensors)) return false;
     }
     fadePhase = phase;

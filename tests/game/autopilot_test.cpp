@@ -181,9 +181,27 @@ TEST(Autopilot, LinesUpWithTheBallThenStepsUpToItAndKicks) {
   c.ballAhead = 0.32;
   EXPECT_EQ(keys(a.decide(400, c)), "tap 5;");  // close enough: the one-leg stand
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Balance);
-  EXPECT_EQ(keys(a.decide(900, c)), "");  // on one leg for 5 s first
-  EXPECT_EQ(keys(a.decide(901, c)), "tap 6;");
+  c.skill = "walk";  // the switch waits until the robot has stopped (up to 3 s)
+  EXPECT_EQ(keys(a.decide(600, c)), "");
+  c.skill = "one_leg";  // it took over at 6.5 s
+  EXPECT_EQ(keys(a.decide(650, c)), "");
+  EXPECT_EQ(keys(a.decide(1049, c)), "");  // on one leg for 4 s first
+  EXPECT_EQ(keys(a.decide(1050, c)), "tap 6;");
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Kick);
+}
+
+TEST(Autopilot, KicksAfterSevenSecondsIfTheOneLegStandNeverTookOver) {
+  game::Autopilot a;
+  a.decide(0, {});
+  game::Cues c;
+  c.ballAhead = 0.32, c.ballY = -0.12, c.skill = "walk";  // at the spot, facing +X
+  int64_t t = 1;
+  decideUntil(a, c, &t, game::Autopilot::Mode::Balance);
+  ASSERT_EQ(a.mode(), game::Autopilot::Mode::Balance);
+  const int64_t start = t;
+  for (; a.mode() == game::Autopilot::Mode::Balance && t < start + 1000; ++t) a.decide(t, c);
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Kick);
+  EXPECT_EQ(t - start, 701);  // the kick at the first tick more than 700 ticks (7 s) after the key (t stops one past it)
 }
 
 TEST(Autopilot, KicksOnlyFromTheCardsSpot) {

@@ -562,7 +562,7 @@ TEST(Switching, AKeyPoseSkillTakesOverOnlyOnceTheRobotStandsSettled) {
   EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s, 0));
 }
 
-TEST(Switching, ASettleFirstSkillWaitsForTheLegsToStopAndUpToThreeSeconds) {
+TEST(Switching, ASettleFirstSkillWaitsUntilTheRobotHasStoppedDriftingAndUpToThreeSeconds) {
   robot::SkillDef walk, squat, oneLeg;
   walk.name = "walk", squat.name = "squat", oneLeg.name = "one_leg";
   walk.commands.vx = {-0.6, 1.2};
@@ -571,15 +571,29 @@ TEST(Switching, ASettleFirstSkillWaitsForTheLegsToStopAndUpToThreeSeconds) {
   robot::Sensors s;
   s.basePosition = Eigen::Vector3d(0, 0, 0.78);
   s.footContact = {true, true};
-  s.linearVelocity = Eigen::Vector3d(0.1, 0, 0);  // at rest (slower than 0.15 m/s) ...
-  s.qd[0] = 1.0;                                  // ... the left hip still swinging
-  EXPECT_TRUE(robot::readyForSwitch(walk, squat, zero, zero, s));
-  EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, zero, s));
-  s.qd[0] = 0.1;  // legs still: settled
-  EXPECT_TRUE(robot::readyForSwitch(walk, oneLeg, zero, zero, s));
+  s.linearVelocity = Eigen::Vector3d(0.1, 0, 0);  // at rest: slower than 0.15 m/s, both feet down
+  EXPECT_TRUE(robot::readyForSwitch(walk, squat, zero, zero, s, 0.3));      // the squat whatever the drift
+  EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, zero, s, 0.05));   // still drifting 0.05 m/s
+  EXPECT_TRUE(robot::readyForSwitch(walk, oneLeg, zero, zero, s, 0.03));
+  s.footContact = {true, false};  // stopped, but a foot up (stepping in place)
+  EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, zero, s, 0.0));
+  s.footContact = {true, true};
   robot::SkillCommand braking;
   braking.vx = 0.2;  // the walk still braking toward zero
-  EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, braking, s));
+  EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, braking, s, 0.0));
+  // the drift is the velocity low-passed over 0.4 s: one tick of 0.1 m/s from rest is 0.1 x 0.01 / 0.4 = 0.0025;
+  // swaying back and forth it averages out
+  Eigen::Vector2d drift = Eigen::Vector2d::Zero();
+  robot::updateDrift(s, &drift);
+  EXPECT_NEAR(drift.x(), 0.0025, 1e-12);
+  for (int t = 0; t < 400; ++t) {
+    s.linearVelocity.y() = (t / 20) % 2 ? 0.2 : -0.2;  // stepping in place: 0.2 m/s sideways, each way for 0.2 s
+    s.linearVelocity.x() = 0.0;
+    robot::updateDrift(s, &drift);
+  }
+  // a square wave of +-a, each half T long, low-passed with time constant tau peaks at a tanh(T / 2 tau) = 0.049 m/s
+  EXPECT_LT(drift.norm(), 0.05);
+  EXPECT_GT(drift.norm(), 0.04);
   EXPECT_EQ(robot::maxSwitchWaitTicks(squat), robot::kMaxRestWaitTicks);  // 1.5 s, then the switch is forced
   EXPECT_EQ(robot::maxSwitchWaitTicks(oneLeg), robot::kMaxSettleWaitTicks);  // 3 s
   EXPECT_EQ(robot::maxSwitchWaitTicks(walk), robot::kMaxSlowWaitTicks);
