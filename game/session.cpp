@@ -165,7 +165,8 @@ void Session::controlSystem() {
     // seeds on levels/flat, asked for 0.5 s in, in 2 of 20 (7 s of jumping)
     const bool hopWait = !direct || (!active_ && robot::startsFromDefaultPose(next->def));
     bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (!hopWait || tick_ - activeSince_ >= kMinHopTicks) &&
-                 (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_, postureWaitTicks_));
+                 (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_, postureWaitTicks_)) &&
+                 (!active_ || robot::cycleAllowsSwitch(active_->def, wanted->def, phase_, drift_.norm(), postureWaitTicks_));
     const bool inPhase = !active_ || !next || robot::phaseAllowsSwitch(active_->def, next->def, phase_);
     // a skill that starts from the default pose (the jump, the kick) waits for a squat or a lift to come back first
     if (next && active_ && robot::startsFromDefaultPose(next->def) && input_.state().amplitude > 0) {
@@ -227,7 +228,9 @@ void Session::controlSystem() {
   observation_ = Eigen::Map<const Eigen::VectorXf>(o.data(), robot::kObservationSize);
   active_->policy(observation_, &policyOutput_);
   robot::filterAction(active_->def, policyOutput_.data(), &action_);
-  phase_.advance(active_->def.prior, command);
+  // a request out of jumps in a row for a still skill waits in the cycle's closing stand rather than jump again
+  const bool waitsForStill = wanted && wanted != active_ && robot::isStillSkill(wanted->def);
+  if (!robot::holdsClosingStand(active_->def, phase_, waitsForStill)) phase_.advance(active_->def.prior, command);
   robot::PdCommand pd;
   robot::skillPdCommand(model_, active_->def, action_, phase_, command, &pd);
   if (fadingFrom_ && fadeTicks_ > 0) {

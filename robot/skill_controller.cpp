@@ -249,6 +249,24 @@ bool isLyingStill(const Sensors& s) {
   return isLyingFaceDown(s) && (s.baseRotation * s.linearVelocity).norm() < kRestSpeed;
 }
 
+bool isKeyPoseCycle(const SkillDef& skill) {
+  return startsFromDefaultPose(skill) && skill.prior.cycleTicks > 0 && skill.prior.keyframes.size() >= 2;
+}
+
+int closingStandTick(const PriorDef& prior) {
+  return prior.keyframes.size() >= 2 ? prior.keyframes[prior.keyframes.size() - 2].tick : 0;
+}
+
+bool holdsClosingStand(const SkillDef& skill, const PhaseClock& phase, bool waitsForStill) {
+  return waitsForStill && isKeyPoseCycle(skill) && phase.tp >= closingStandTick(skill.prior);
+}
+
+bool cycleAllowsSwitch(const SkillDef& from, const SkillDef& destination, const PhaseClock& phase, double drift,
+                       int waitedTicks) {
+  if (!isKeyPoseCycle(from) || !isStillSkill(destination)) return true;
+  return phase.tp >= closingStandTick(from.prior) && (drift < kSettleDrift || waitedTicks >= kMaxSettleWaitTicks);
+}
+
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors, int waitedTicks) {
   if (isGroundSkill(from) && isGroundSkill(to) && to.parent == from.name) return isLyingStill(sensors);
   if (startsFromDefaultPose(to) && !isStandingSettled(sensors)) return false;

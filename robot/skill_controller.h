@@ -106,6 +106,24 @@ bool hasStoodUp(const Sensors& sensors);
 /// Out of such a skill, once the switch has waited `waitedTicks` >= kMaxSettleWaitTicks, at rest on both feet and
 /// level is enough (atRestForSwitch, rising or sinking slower than kRestSpeed), the leg joints free to move.
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors, int waitedTicks);
+/// A skill whose prior is a repeating cycle of key poses from the default pose (the jump; not a ground skill's
+/// gait). A request out of it whose destination is a still skill (the squat) is met only in the cycle's closing
+/// stand (from closingStandTick on) once the robot has stopped drifting (`drift`, robot::updateDrift, under
+/// kSettleDrift; after kMaxSettleWaitTicks of waiting, the closing stand alone), and while it waits the clock holds
+/// in that stand instead of starting the next crouch (holdsClosingStand). The squat taking over at the first
+/// settled moment after a landing, still drifting back at ~0.2 m/s, turned on the spot and fell (session 25). A
+/// moving destination (the walk, routed through the squat) takes over as before: it steps out of the drift (with
+/// the rule for it too, the jump fell 50 times over levels/mario's autopilot seeds 1-60, against 17).
+bool isKeyPoseCycle(const SkillDef& skill);
+/// The tick of the cycle's key before the last (the last repeats its pose: the stand that closes each cycle).
+int closingStandTick(const PriorDef& prior);
+/// True unless `from` is a key-pose cycle, `destination` a still skill, and the cycle or the drift not there yet
+/// (see isKeyPoseCycle). `waitedTicks`: how long the switch has waited.
+bool cycleAllowsSwitch(const SkillDef& from, const SkillDef& destination, const PhaseClock& phase, double drift,
+                       int waitedTicks);
+/// True when the clock of `skill` stays where it is this tick: a request out of it to a still destination waits
+/// (`waitsForStill`) and its cycle has reached its closing stand.
+bool holdsClosingStand(const SkillDef& skill, const PhaseClock& phase, bool waitsForStill);
 /// The kick shipped in session 24 does not stand still after its kick: it turns on the spot and steps (a later
 /// fine-tune of it taps its right foot, leg joints at 0.6-3 rad/s, both feet down a third of the time), so waiting for
 /// a settled stand, kick -> one_leg never happened (0 of 20, `eval switches`). Rest on both feet and level at once

@@ -286,7 +286,8 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
     for (int t = 0;; ++t) {
       if (t >= run) {  // the switch, once the skill's brake (if it waits) and the gait phase allow it
         if (waits) target = robot::switchBrakeTarget(p, next, target);
-        const bool posture = robot::postureAllowsSwitch(p, next, *sensors, t - run);
+        const bool posture = robot::postureAllowsSwitch(p, next, *sensors, t - run) &&
+                             robot::cycleAllowsSwitch(p, skill, phase, drift.norm(), t - run);
         bool ready = !waits || t - run >= robot::maxSwitchWaitTicks(next) ||
                      (robot::readyForSwitch(p, next, target, command, *sensors, drift.norm()) && posture);
         if (robot::startsFromDefaultPose(p) && !posture) {  // a settled stand first
@@ -304,7 +305,7 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
       for (int j = 0; j < robot::kObservationSize; ++j) obs(j, 0) = o[size_t(j)];
       stages[k].policy(obs, &out);
       robot::filterAction(p, out.data(), &end->action);
-      phase.advance(p.prior, command);
+      if (!robot::holdsClosingStand(p, phase, t >= run && robot::isStillSkill(skill))) phase.advance(p.prior, command);
       robot::PdCommand pd;
       robot::skillPdCommand(actual, p, end->action, phase, command, &pd);
       if (fadeTicks > 0) {  // the skill before this one fading out, as the runtime does

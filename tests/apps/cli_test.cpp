@@ -186,6 +186,14 @@ TEST(Cli, KeySixKicksTheBallIntoTheGoalFromAStandingStart) {
   EXPECT_NE(r.out.find("falls      0"), std::string::npos) << r.out;
 }
 
+TEST(Cli, FromJumpsInARowTheSquatTakesOverOnceTheRobotHasStopped) {
+  // the squat asked for mid-jump waits for the cycle's closing stand and for the drift to stop (robot::cycleAllowsSwitch)
+  const CliRun r = run("play levels/flat --keys jump_squat.keys --seconds 9 --expect alive");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("stand->jump at 0.50 s, jump->squat at 3.60 s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("falls      0"), std::string::npos) << r.out;
+}
+
 TEST(Cli, FromTheCrawlKeyZeroStandsUpThenTheWalkGoesOn) {
   // walk, then 9: routed walk -> prone -> crawl once the robot lies still; W crawls; then 0: crawl -> standup (its
   // way up; the crawl does not come to rest at a zero command, so the switch comes when the 1.5 s wait runs out)

@@ -599,6 +599,33 @@ TEST(Switching, ASettleFirstSkillWaitsUntilTheRobotHasStoppedDriftingAndUpToThre
   EXPECT_EQ(robot::maxSwitchWaitTicks(walk), robot::kMaxSlowWaitTicks);
 }
 
+TEST(Switching, OutOfJumpsInARowAStillSkillTakesOverInTheClosingStandOnceTheDriftHasStopped) {
+  robot::SkillDef jump, squat, walk, kick;
+  jump.name = "jump", squat.name = "squat", walk.name = "walk", kick.name = "kick";
+  walk.commands.vx = {-0.6, 1.2};
+  jump.prior.kind = kick.prior.kind = robot::PriorDef::Kind::Keyframes;
+  jump.prior.keyframes = {{35, {}}, {120, {}}, {160, {}}};  // crouch ... the default pose at 1.2 s, held to 1.6 s
+  jump.prior.cycleTicks = 160;
+  kick.prior.keyframes = jump.prior.keyframes;  // the same keys, once (no cycle)
+  EXPECT_TRUE(robot::isKeyPoseCycle(jump));
+  EXPECT_FALSE(robot::isKeyPoseCycle(kick));
+  EXPECT_EQ(robot::closingStandTick(jump.prior), 120);
+  robot::PhaseClock crouching, standing;
+  crouching.tp = 30, standing.tp = 130;
+  EXPECT_FALSE(robot::cycleAllowsSwitch(jump, squat, crouching, 0.0, 0));  // not in a crouch
+  EXPECT_FALSE(robot::cycleAllowsSwitch(jump, squat, standing, 0.05, 0));  // still drifting
+  EXPECT_TRUE(robot::cycleAllowsSwitch(jump, squat, standing, 0.03, 0));
+  EXPECT_TRUE(robot::cycleAllowsSwitch(jump, squat, standing, 0.05, robot::kMaxSettleWaitTicks));  // waited 3 s
+  EXPECT_FALSE(robot::cycleAllowsSwitch(jump, squat, crouching, 0.0, robot::kMaxSettleWaitTicks));
+  EXPECT_TRUE(robot::cycleAllowsSwitch(jump, walk, crouching, 0.2, 0));  // the walk steps out of a drift: as before
+  EXPECT_TRUE(robot::cycleAllowsSwitch(kick, squat, crouching, 0.2, 0));
+  // the clock holds in the closing stand while a still skill is waited for, and only there
+  EXPECT_TRUE(robot::holdsClosingStand(jump, standing, true));
+  EXPECT_FALSE(robot::holdsClosingStand(jump, standing, false));
+  EXPECT_FALSE(robot::holdsClosingStand(jump, crouching, true));
+  EXPECT_FALSE(robot::holdsClosingStand(kick, standing, true));
+}
+
 TEST(Switching, OutOfAKeyPoseSkillAfterThreeSecondsRestOnBothFeetIsEnough) {
   robot::SkillDef kick, oneLeg;
   kick.name = "kick", oneLeg.name = "one_leg";
