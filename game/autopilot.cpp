@@ -47,9 +47,9 @@ constexpr double kStoodHeight = 0.70;    // standing again
 constexpr double kFlightHeight = 0.86;  // pelvis [m] above which a jump has left the ground (standing: 0.78)
 // kBalanceTicks: the one-leg stand before the kick. Over 10 seeds of levels/mario the kick fell 37 times after
 // 1.5 s of it, 22 after 3 s, 18 after 5 s (the same 6 wins as 1.5 s), 17 after 8 s (4 wins: the waits ran the clock out).
-// Counted from the stand's takeover (session 25: the switch into it waits up to 3 s for a settled stand; counted from
-// the key, as before, the stand shrank to 2 s and seeds 3 and 9 of 1-60 ran out of time re-lining up); kBalanceTimeout
-// from the key, in case the stand never takes over.
+// Counted from the stand's takeover (session 25: the switch into it waits up to 3 s for the robot to stop drifting,
+// robot::kSettleDrift; counted from the key, as before, the stand shrank to 2 s and seeds 3 and 9 of 1-60 ran out of
+// time re-lining up); kBalanceTimeout from the key, in case the stand never takes over.
 constexpr int64_t kBalanceTimeout = 700;
 constexpr int64_t kProneLie = 300, kProneTimeout = 600, kStandTimeout = 600, kJumpTimeout = 400, kBalanceTicks = 400,
                   kKickTicks = 250, kRecoverTicks = 150, kSettleTicks = 40, kAlignTimeout = 1500, kApproachTimeout = 1500,

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/loop/clock.h"
+
 namespace robot {
 namespace {
 
@@ -157,7 +159,7 @@ bool atRestForSwitch(const Sensors& sensors) {
 
 void updateDrift(const Sensors& sensors, Eigen::Vector2d* drift) {
   const Eigen::Vector2d v = (sensors.baseRotation * sensors.linearVelocity).head<2>();
-  *drift += (v - *drift) * (0.01 / kDriftSeconds);  // one 0.01 s control tick (engine::kTickSeconds)
+  *drift += (v - *drift) * (engine::kTickSeconds / kDriftSeconds);  // one control tick
 }
 
 namespace {
