@@ -52,6 +52,14 @@ struct Reader {
     const toml::node* n = t.get(key);
     return n ? number(*n, where + "." + key, lo, hi) : fallback;
   }
+  // true or false (not 1 or 0)
+  bool flag(const toml::table& t, const char* key, bool fallback, const std::string& where) const {
+    const toml::node* n = t.get(key);
+    if (!n) return fallback;
+    const std::optional<bool> b = n->is_boolean() ? n->value<bool>() : std::nullopt;
+    if (!b) throw Error(located(file, line(*n), where + "." + key + " must be true or false"));
+    return *b;
+  }
   // [a, b] with no order between them
   std::array<double, 2> pair(const toml::table& t, const char* key, std::array<double, 2> fallback, double lo, double hi,
                              const std::string& where) const {
@@ -161,11 +169,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
     s.switchInPhase = r.range(*t, "switch_in_phase", {0.0, 1.0}, 0.0, 1.0, where);
-    if (const toml::node* sf = t->get("settle_first")) {
-      const std::optional<bool> b = sf->is_boolean() ? sf->value<bool>() : std::nullopt;
-      if (!b) throw Error(located(path, r.line(*sf), where + ".settle_first must be true or false"));
-      s.settleFirst = *b;
-    }
+    s.settleFirst = r.flag(*t, "settle_first", s.settleFirst, where);
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
       r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat", "repeat_from"}, where + ".prior");
@@ -307,16 +311,8 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.commands.resampleJitter = r.number(*c, "resample_jitter", 0, 0, 0.9, where + ".commands");
       s.commands.lineHold = r.number(*c, "line_hold", 0, 0, 5, where + ".commands");
       s.commands.steer = r.number(*c, "steer", 0, 0, 2, where + ".commands");
-      if (const toml::node* rp = c->get("ramp")) {
-        const std::optional<bool> b = rp->is_boolean() ? rp->value<bool>() : std::nullopt;
-        if (!b) throw Error(located(path, r.line(*rp), where + ".commands.ramp must be true or false"));
-        s.commands.ramp = *b;
-      }
-      if (const toml::node* lc = c->get("line_command")) {
-        const std::optional<bool> b = lc->is_boolean() ? lc->value<bool>() : std::nullopt;
-        if (!b) throw Error(located(path, r.line(*lc), where + ".commands.line_command must be true or false"));
-        s.commands.lineCommand = *b;
-      }
+      s.commands.ramp = r.flag(*c, "ramp", s.commands.ramp, where + ".commands");
+      s.commands.lineCommand = r.flag(*c, "line_command", s.commands.lineCommand, where + ".commands");
     }
     if (const toml::table* w = r.table(*t, "rewards", true, where))
       for (auto&& [rk, rv] : *w) {
@@ -542,11 +538,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         }
         if (std::abs(sum - 1.0) > 1e-6) throw Error(located(path, r.line(*m), w + ".mix must add up to 1"));
       }
-      if (const toml::node* rp = c->get("ramp")) {
-        const std::optional<bool> b = rp->is_boolean() ? rp->value<bool>() : std::nullopt;
-        if (!b) throw Error(located(path, r.line(*rp), w + ".ramp must be true or false"));
-        d.ramp = *b;
-      }
+      d.ramp = r.flag(*c, "ramp", d.ramp, w);
       if (const toml::node* p2 = c->get("pushes")) {
         auto b = p2->value<bool>();
         if (!b) throw Error(located(path, r.line(*p2), w + ".pushes must be true or false"));

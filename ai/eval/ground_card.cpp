@@ -172,9 +172,9 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
       if (e.stage == kRising && crawl) {
         const Eigen::Vector2d d = e.sensors.basePosition.head<2>() - e.start;
         const double progress = d.dot(e.along);
-        e.offset = d.dot(Eigen::Vector2d(-e.along.y(), e.along.x()));
-        const Eigen::Vector2d h = robot::groundHeading(e.sensors);
-        e.headingOff = std::atan2(e.along.x() * h.y() - e.along.y() * h.x(), e.along.dot(h));
+        robot::SkillCommand line;  // the offset across the tunnel's axis and the heading off it
+        robot::lineIntoCommand(e.sensors, e.start, e.along, &line);
+        e.offset = line.aux1, e.headingOff = line.aux0;
         e.side = std::max(e.side, std::abs(e.offset));
         if (progress >= e.best + 0.1) {
           e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
