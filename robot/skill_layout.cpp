@@ -42,4 +42,33 @@ void lineIntoCommand(const Sensors& sensors, const Eigen::Vector2d& start, const
   command->aux1 = std::clamp(along.x() * d.y() - along.y() * d.x(), -2.0, 2.0);
 }
 
+void stepIntoCommand(const Sensors& sensors, const engine::PhysicsWorld& world, SkillCommand* command) {
+  const Eigen::Vector2d h = groundHeading(sensors);
+  const Eigen::Vector2d p = sensors.basePosition.head<2>();
+  const double top = sensors.basePosition.z();
+  auto heightAt = [&](double d) {
+    const Eigen::Vector2d q = p + d * h;
+    return world.groundHeight(q.x(), q.y(), top);
+  };
+  const double here = heightAt(0.0);
+  auto isStep = [&](double height) { return !(std::abs(height - here) <= kStepMinRise); };
+  command->aux0 = 0.0;
+  command->aux1 = kStepLookahead;
+  const int samples = int(std::lround(kStepLookahead / kStepSampleSpacing));
+  for (int k = 1; k <= samples; ++k) {
+    double far = k * kStepSampleSpacing;
+    const double height = heightAt(far);
+    if (!isStep(height)) continue;
+    double near = far - kStepSampleSpacing;
+    for (int i = 0; i < 4; ++i) {  // the edge lies in (near, far]
+      const double mid = 0.5 * (near + far);
+      (isStep(heightAt(mid)) ? far : near) = mid;
+    }
+    const double rise = std::isfinite(height) && std::isfinite(here) ? height - here : -0.3;
+    command->aux0 = std::clamp(rise, -0.3, 0.3);
+    command->aux1 = 0.5 * (near + far);
+    return;
+  }
+}
+
 }  // namespace robot

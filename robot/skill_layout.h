@@ -60,6 +60,19 @@ void ballIntoCommand(const Sensors& sensors, const Eigen::Vector3d& ball, SkillC
 void lineIntoCommand(const Sensors& sensors, const Eigen::Vector2d& start, const Eigen::Vector2d& along,
                      SkillCommand* command);
 
+/// How far ahead robot::stepIntoCommand looks [m], its sampling interval and the height change it counts as a step.
+constexpr double kStepLookahead = 0.8;
+constexpr double kStepSampleSpacing = 0.1;
+constexpr double kStepMinRise = 0.02;
+
+/// Puts the next step ahead ([commands] step_command: the stairs) into command.aux0 and command.aux1: aux0 is its
+/// rise [m] (up > 0, clamped to +-0.3), aux1 its distance ahead of the pelvis along the ground heading [m]. The
+/// ground is sampled every kStepSampleSpacing up to kStepLookahead, from the height under the pelvis; the first
+/// sample that differs from it by more than kStepMinRise is a step, and its edge is found to 1/16 of the spacing
+/// by halving. No step in sight: aux0 = 0, aux1 = kStepLookahead (what flat ground shows). Static geometry only
+/// (engine::PhysicsWorld::groundHeight); without it a blind policy meets each riser with its toes.
+void stepIntoCommand(const Sensors& sensors, const engine::PhysicsWorld& world, SkillCommand* command);
+
 /// Fills an observation from sensors, the model's default pose, the previous action, command and phase.
 void buildObservation(const Sensors& s, const RobotModel& model, const std::array<float, kActionSize>& previousAction,
                       const SkillCommand& command, double phaseSin, double phaseCos, Observation* out);

@@ -292,7 +292,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     g.randomisation = t->get("randomisation") != nullptr;
     if (const toml::table* c = r.table(*t, "commands", false, where)) {
       r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "amplitude_zero", "pelvis_height", "zero_probability", "resample_s",
-                       "resample_jitter", "ramp", "line_hold", "steer", "line_command"},
+                       "resample_jitter", "ramp", "line_hold", "steer", "line_command", "step_command"},
                  where + ".commands");
       s.commands.amplitude = r.range(*c, "amplitude", {}, 0, 1, where + ".commands");
       s.commands.amplitudeRate = r.number(*c, "amplitude_rate", 0, 0, 100, where + ".commands");
@@ -313,6 +313,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.commands.steer = r.number(*c, "steer", 0, 0, 2, where + ".commands");
       s.commands.ramp = r.flag(*c, "ramp", s.commands.ramp, where + ".commands");
       s.commands.lineCommand = r.flag(*c, "line_command", s.commands.lineCommand, where + ".commands");
+      s.commands.stepCommand = r.flag(*c, "step_command", s.commands.stepCommand, where + ".commands");
+      if (s.commands.lineCommand && s.commands.stepCommand)
+        throw Error(located(path, r.line(*c->get("step_command")), where + ".commands: line_command and step_command both "
+                                                                  "use the aux command slots; a skill can have one"));
     }
     if (const toml::table* w = r.table(*t, "rewards", true, where))
       for (auto&& [rk, rv] : *w) {
@@ -389,9 +393,9 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.ball.y = off[1];
       s.ball.jitter = r.number(*bt, "jitter", 0.03, 0, 1, w);
       s.ball.absent = r.number(*bt, "absent", 0.0, 0, 1, w);
-      if (s.commands.lineCommand)
+      if (s.commands.lineCommand || s.commands.stepCommand)
         throw Error(located(path, r.line(*bt), w + ": a ball skill sees its ball in the aux command slots, so it cannot "
-                                               "also have [commands] line_command = true"));
+                                               "also have [commands] line_command or step_command = true"));
     }
     if (const toml::table* tt = r.table(*t, "terrain", false, where)) {
       const std::string w = where + ".terrain";

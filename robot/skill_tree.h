@@ -96,6 +96,9 @@ struct CommandDef {
   /// true: the skill sees the line it began on (where it took over, the way it faced) in its aux command slots
   /// (robot::lineIntoCommand), in training, on its card and in play; a ball skill's aux slots hold its ball
   bool lineCommand = false;
+  /// true: the skill sees the next step ahead, its rise and distance, in its aux command slots
+  /// (robot::stepIntoCommand), in training, on its card and in play: the stairs
+  bool stepCommand = false;
 };
 
 struct RandomisationDef {

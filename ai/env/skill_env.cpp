@@ -300,8 +300,10 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
                                   &command.wz);
       double s, c;
       robot::phaseSignal(phase.tp, p.prior.halfPeriodTicks, &s, &c);
+      robot::SkillCommand seen = command;
+      if (p.commands.stepCommand) robot::stepIntoCommand(*sensors, world, &seen);
       robot::Observation o;
-      robot::buildObservation(*sensors, nominal, end->action, command, s, c, &o);
+      robot::buildObservation(*sensors, nominal, end->action, seen, s, c, &o);
       for (int j = 0; j < robot::kObservationSize; ++j) obs(j, 0) = o[size_t(j)];
       stages[k].policy(obs, &out);
       robot::filterAction(p, out.data(), &end->action);
@@ -338,6 +340,7 @@ void SkillEnv::observe(const Env& e, float* out) const {
   robot::phaseSignal(e.phase.tp, skill_.prior.halfPeriodTicks, &s, &c);
   robot::SkillCommand command = e.command;
   if (skill_.commands.lineCommand) robot::lineIntoCommand(e.sensors, e.lineStart, e.lineHeading, &command);
+  if (skill_.commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, &command);
   robot::Observation o;
   robot::buildObservation(e.sensors, model_, e.action, command, s, c, &o);
   std::copy(o.begin(), o.end(), out);

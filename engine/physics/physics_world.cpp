@@ -12,6 +12,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <Eigen/Eigenvalues>
+#include <limits>
 
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
@@ -144,6 +145,16 @@ int PhysicsWorld::addStaticBox(const Eigen::Vector3d& centre, const Eigen::Quate
   impl_->objects.emplace_back(body);
   impl_->world->addRigidBody(body);
   return static_cast<int>(impl_->objects.size()) - 1;
+}
+
+double PhysicsWorld::groundHeight(double x, double y, double fromZ) const {
+  const btVector3 from{btScalar(x), btScalar(y), btScalar(fromZ)};
+  const btVector3 to{btScalar(x), btScalar(y), btScalar(fromZ - 10.0)};
+  btCollisionWorld::ClosestRayResultCallback hit(from, to);
+  hit.m_collisionFilterMask = btBroadphaseProxy::StaticFilter;  // static bodies only: not the robot, not a ball
+  impl_->world->rayTest(from, to, hit);
+  if (!hit.hasHit()) return -std::numeric_limits<double>::infinity();
+  return double(hit.m_hitPointWorld.z());
 }
 
 BallId PhysicsWorld::addBall(const BallDef& def, const Eigen::Vector3d& centre) {

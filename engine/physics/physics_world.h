@@ -67,6 +67,11 @@ class PhysicsWorld {
   /// Number of balls.
   int ballCount() const;
 
+  /// Height of the highest static surface (ground plane, static boxes) under the point (x, y) at or below
+  /// `fromZ` [m]: a ray cast straight down that passes through articulations and balls. -infinity if the ray,
+  /// which reaches 10 m below `fromZ`, meets nothing. Read-only: it does not change the simulation.
+  double groundHeight(double x, double y, double fromZ) const;
+
   /// Builds an articulation with its base link frame at basePose and all joints at q = 0.
   ArticulationId addArticulation(const ArticulationDef& def, const Eigen::Isometry3d& basePose, double friction);
 

@@ -641,6 +641,30 @@ TEST(SkillEnv, ALineKeepingSkillSeesHowFarItHasDriftedFromTheLineItBeganOn) {
   EXPECT_EQ(ra.rewards, rb.rewards);  // the same world: only what the policy is shown differs
 }
 
+TEST(SkillEnv, AStairsSkillSeesTheFirstRiserAheadOfItsSpawn) {
+  robot::SkillDef stairs = *fixture().tree.find("walk");
+  stairs.commands.stepCommand = true;
+  stairs.terrain.kind = robot::TerrainDef::Kind::Stairs;
+  stairs.terrain.startX = 0.5;  // the first riser 0.5 m ahead of the spawn at x = 0 (facing +x within 0.2 rad)
+  stairs.terrain.lessons = {0.10};
+  robot::SkillDef blind = stairs;
+  blind.commands.stepCommand = false;
+  constexpr int kAux0 = robot::kObsCommand + 4, kAux1 = robot::kObsCommand + 5;
+  ai::SkillEnv seeing(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
+  ai::SkillEnv without(fixture().model, blind, fixture().tree.path, envOptions(4, 1, false));
+  Eigen::MatrixXf a, b;
+  seeing.reset(3, &a);
+  without.reset(3, &b);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(a(kAux0, i), 0.10f, 1e-4f);  // the first step's rise (float rays: to 0.1 mm)
+    // 0.5 m / cos(yaw) from x = 0, less the pelvis's few centimetres off the spawn point, to within the 6 mm halving
+    EXPECT_GT(a(kAux1, i), 0.45f);
+    EXPECT_LT(a(kAux1, i), 0.52f);
+    EXPECT_EQ(b(kAux0, i), 0.0f);
+    EXPECT_EQ(b(kAux1, i), 0.0f);
+  }
+}
+
 TEST(SkillEnv, LineJitterStartsEachEpisodeWithinItsBoundsOffTheLine) {
   robot::SkillDef lined = *fixture().tree.find("walk");
   lined.commands.lineCommand = true;

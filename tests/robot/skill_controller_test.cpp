@@ -11,6 +11,7 @@
 #include <regex>
 
 #include "engine/core/error.h"
+#include "robot/skill_layout.h"
 
 namespace {
 
@@ -274,6 +275,10 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(lineAndBall).find("t.toml:22: skill.walk.ball: a ball skill sees its ball in the aux command slots"),
             std::string::npos)
       << errorOf(lineAndBall);
+  const std::string lineAndStep = walk + "[skill.walk.commands]\nvx = [0, 1]\nline_command = true\nstep_command = true\n";
+  EXPECT_NE(errorOf(lineAndStep).find("t.toml:22: skill.walk.commands: line_command and step_command both use the aux"),
+            std::string::npos)
+      << errorOf(lineAndStep);
   const std::string jitterNoLine = walk + "[skill.walk.training]\nline_jitter = [0.3, 0.3]\n";
   EXPECT_NE(errorOf(jitterNoLine).find("t.toml:20: skill.walk.training.line_jitter moves the line a skill sees, and it sees none"),
             std::string::npos)
@@ -479,6 +484,35 @@ TEST(LineCommand, AuxSlotsHoldTheHeadingErrorAndTheOffsetLeftOfTheLine) {
   robot::lineIntoCommand(s, Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), &c);
   EXPECT_NEAR(c.aux0, 0.0, 1e-12);
   EXPECT_NEAR(c.aux1, -0.1, 1e-12);
+}
+
+TEST(StepCommand, AuxSlotsHoldTheNextRiseAheadAndHowFarAwayItsEdgeIs) {
+  // a 0.15 m step whose edge is 0.43 m ahead of the pelvis, and a ball on the floor between (rays pass it)
+  engine::PhysicsWorld world;
+  world.addGround(1.0);
+  world.addStaticBox(Eigen::Vector3d(1.43 + 0.5, 0, 0.075), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 1, 0.075), 1.0);
+  world.addBall(engine::BallDef{}, Eigen::Vector3d(1.2, 0, 0.11));
+  EXPECT_NEAR(world.groundHeight(1.2, 0, 0.8), 0.0, 1e-6);   // through the ball to the floor
+  EXPECT_NEAR(world.groundHeight(1.6, 0, 0.8), 0.15, 1e-6);  // the step's tread
+  EXPECT_NEAR(world.groundHeight(1.6, 0, 0.1), 0.0, 1e-6);   // from inside the step: the floor under it
+  robot::Sensors s;
+  s.basePosition = Eigen::Vector3d(1.0, 0.0, 0.78);
+  robot::SkillCommand c;
+  c.vx = 0.5;
+  robot::stepIntoCommand(s, world, &c);
+  EXPECT_NEAR(c.aux0, 0.15, 1e-6);
+  EXPECT_NEAR(c.aux1, 0.43, 0.1 / 32 + 1e-9);  // the edge found to 1/16 of the 0.1 m sampling, its middle reported
+  EXPECT_DOUBLE_EQ(c.vx, 0.5);                 // the velocity slots are the keys'
+  // turned round: flat floor as far as it looks
+  s.baseRotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
+  robot::stepIntoCommand(s, world, &c);
+  EXPECT_DOUBLE_EQ(c.aux0, 0.0);
+  EXPECT_DOUBLE_EQ(c.aux1, robot::kStepLookahead);
+  // on the tread 0.1 m from its edge, facing back: the step down
+  s.basePosition = Eigen::Vector3d(1.53, 0.0, 0.93);
+  robot::stepIntoCommand(s, world, &c);
+  EXPECT_NEAR(c.aux0, -0.15, 1e-6);
+  EXPECT_NEAR(c.aux1, 0.10, 0.1 / 32 + 1e-9);
 }
 
 TEST(Termination, GroundSkillsMayLieFaceDownButNotRollOntoTheirSideOrBack) {
