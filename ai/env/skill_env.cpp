@@ -413,7 +413,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     // reward
     RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_,
                       e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor, e.phase.tp,
-                      &e.lineStart, &e.lineHeading, e.yawRateSmoothed};
+                      &e.lineStart, &e.lineHeading, e.yawRateSmoothed, e.world.get()};
     double reward = 0;
     for (size_t k = 0; k < terms_.size(); ++k) {
       const double v = terms_[k].weight * terms_[k].term->value(ctx);

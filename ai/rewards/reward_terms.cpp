@@ -18,6 +18,15 @@ double lineTurnTarget(double headingError, double offset) {
   return std::clamp(-(kLineTurnPerRad * headingError + kLineTurnPerMetre * offset), -kLineTurnMax, kLineTurnMax);
 }
 
+bool footAcrossEdge(const robot::Sensors& sensors, const engine::PhysicsWorld& world, int i) {
+  const Eigen::Vector2d h = robot::groundHeading(sensors);
+  const Eigen::Vector3d& f = sensors.footPosition[size_t(i)];
+  const Eigen::Vector2d toe = f.head<2>() + kFootEdgeToe * h, heel = f.head<2>() + kFootEdgeHeel * h;
+  const double fromZ = f.z() + 0.3;  // above a tread up to 0.3 m over the sole (the toe against a riser)
+  const double a = world.groundHeight(toe.x(), toe.y(), fromZ), b = world.groundHeight(heel.x(), heel.y(), fromZ);
+  return !(std::abs(a - b) <= kFootEdgeRise);  // also when a ray meets nothing (-inf)
+}
+
 namespace {
 
 constexpr double kDeg = 180.0 / M_PI;
@@ -133,6 +142,15 @@ double standHeight(const RewardContext& c) {
 double upright(const RewardContext& c) { return std::max(0.0, std::cos(c.sensors->tilt)); }
 double stood(const RewardContext& c) { return robot::hasStoodUp(*c.sensors) ? 1.0 : 0.0; }
 double feetDown(const RewardContext& c) { return c.sensors->footContact[0] && c.sensors->footContact[1] ? 1.0 : 0.0; }
+// a foot on the ground across a step's edge (half on the tread, or its toe against the next riser): the blind
+// stairs' feet landed so and the robot sat back onto the steps (stairs.train.md)
+double footEdge(const RewardContext& c) {
+  if (!c.world) return 0.0;
+  double n = 0.0;
+  for (int i = 0; i < 2; ++i)
+    if (c.sensors->footContact[size_t(i)] && footAcrossEdge(*c.sensors, *c.world, i)) n += 1.0;
+  return -n;
+}
 double crawlVelocity(const RewardContext& c) {
   const Eigen::Vector2d h = robot::groundHeading(*c.sensors);
   const Eigen::Vector2d v = (c.sensors->baseRotation * c.sensors->linearVelocity).head<2>();
@@ -209,6 +227,7 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"heading_rate", &headingRate, "exp(-(wz_world - wz_cmd)^2 / 0.02): turning about the vertical, whatever the posture (0.1 rad/s: 0.61)"},
       {"pushup_height", &pushUpHeight, "exp(-((h - h_cycle) / 0.05 m)^2), h_cycle = 0.11 m + 0.10 m (1 - cos 2 pi u) / 2 through the repeating prior's cycle u"},
       {"feet_down", &feetDown, "1 while both feet touch the ground (a kick that ends standing on both feet, not stepping: the switch out of it waits for a settled stand)"},
+      {"foot_edge", &footEdge, "-(number of feet on the ground whose toe and heel have ground under them more than 0.02 m apart: across a step's edge)"},
       {"stood", &stood, "1 while standing: pelvis >= 0.70 m and tilt < 10 deg (robot::hasStoodUp)"},
       {"foot_clear", &footClear, "clamp(h_right_sole / (0.12 m lift), 0, 1); 1 when no lift is asked, 0 while the right foot touches the ground (lift as for foot_lift)"},
       {"weight_centred", &weightCentred, "1 - (1 - w)(1 - exp(-(d / 0.05 m)^2)), d: the centre of mass's sideways offset (pelvis heading) from the feet's midpoint, w: a two-stage pose's first-stage weight (0 otherwise)"},

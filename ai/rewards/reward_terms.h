@@ -31,6 +31,8 @@ struct RewardContext {
   const Eigen::Vector2d* lineHeading = nullptr;
   /// line_turn: the world yaw rate low-passed over kLineTurnSeconds [rad/s] (a crawl's rock swings the raw rate)
   double yawRateSmoothed = 0;
+  /// foot_edge: the world the feet stand in (its static geometry is read with ray casts); nullptr: no term looks
+  const engine::PhysicsWorld* world = nullptr;
 };
 
 /// line_turn: the yaw rate's low-pass time constant [s], the turn asked per rad of heading error and per metre off
@@ -66,6 +68,16 @@ inline double targetPelvisHeight(const robot::SkillDef& skill, double amplitude)
   const robot::Range& h = skill.commands.pelvisHeight;
   return h.lo + amplitude * (h.hi - h.lo);
 }
+
+/// foot_edge: where along the foot the ground under it is sampled, from the foot link's origin along the heading
+/// [m]: the sole's box (assets/robots/g1_23dof.urdf: 0.18 m long, centred 0.04 m ahead of the ankle) 1 cm in from
+/// its toe and its heel; a difference of more than kFootEdgeRise between them is a foot standing across an edge
+constexpr double kFootEdgeToe = 0.12;
+constexpr double kFootEdgeHeel = -0.04;
+constexpr double kFootEdgeRise = 0.02;
+/// True when the ground under foot `i`'s toe and heel (robot::groundHeading) differs by more than kFootEdgeRise,
+/// or one of them has no ground under it: the foot is half on a step, or overhangs it.
+bool footAcrossEdge(const robot::Sensors& sensors, const engine::PhysicsWorld& world, int i);
 
 /// A named term: value(context), unweighted.
 struct RewardTerm {

@@ -158,6 +158,34 @@ TEST(RewardTerms, FeetDownPaysOnlyWithBothFeetOnTheGround) {
   EXPECT_EQ(term("feet_down", c.get()), 0.0);
 }
 
+TEST(RewardTerms, FootEdgeCountsTheFeetOnTheGroundAcrossAStepsEdge) {
+  // a 0.15 m step from x = 1.0 to 2.0; the sole's samples lie 0.12 m ahead of the foot link and 0.04 m behind it
+  engine::PhysicsWorld world;
+  world.addGround(1.0);
+  world.addStaticBox(Eigen::Vector3d(1.5, 0, 0.075), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 1, 0.075), 1.0);
+  Context c;
+  ai::RewardContext ctx = c.get();
+  c.sensors.footContact = {true, true};
+  c.sensors.footPosition = {Eigen::Vector3d(0.50, 0.1, 0.035), Eigen::Vector3d(1.50, -0.1, 0.185)};  // floor, tread
+  EXPECT_EQ(term("foot_edge", ctx), 0.0);  // no world: the term looks at nothing
+  ctx.world = &world;
+  EXPECT_EQ(term("foot_edge", ctx), 0.0);
+  c.sensors.footPosition[0].x() = 0.95;  // toe (1.07) on the tread, heel (0.91) on the floor
+  EXPECT_EQ(term("foot_edge", ctx), -1.0);
+  c.sensors.footPosition[1].x() = 1.90;  // toe (2.02) over the edge down, heel (1.86) on the tread
+  EXPECT_EQ(term("foot_edge", ctx), -2.0);
+  c.sensors.footContact = {false, true};  // the left foot in the air over the edge counts for nothing
+  EXPECT_EQ(term("foot_edge", ctx), -1.0);
+  c.sensors.footPosition[1].x() = 1.87;  // toe at 1.99: on the tread
+  EXPECT_EQ(term("foot_edge", ctx), 0.0);
+  // turned round, the same foot's toe points back over the floor below the riser
+  c.sensors.baseRotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
+  c.sensors.footPosition[1].x() = 1.08;  // toe at 0.96, heel at 1.12
+  EXPECT_EQ(term("foot_edge", ctx), -1.0);
+  c.sensors.footPosition[1].x() = 1.20;  // toe at 1.08
+  EXPECT_EQ(term("foot_edge", ctx), 0.0);
+}
+
 TEST(RewardTerms, PushUpHeightFollowsThePriorsCycleDownAtItsStartUpHalfWay) {
   Context c;
   c.skill.prior.kind = robot::PriorDef::Kind::Keyframes;
