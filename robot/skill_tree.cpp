@@ -292,7 +292,8 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     g.randomisation = t->get("randomisation") != nullptr;
     if (const toml::table* c = r.table(*t, "commands", false, where)) {
       r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "amplitude_zero", "pelvis_height", "zero_probability", "resample_s",
-                       "resample_jitter", "ramp", "line_hold", "steer", "line_command", "step_command"},
+                       "resample_jitter", "ramp", "line_hold", "steer", "turn_in_place", "line_command",
+                       "step_command"},
                  where + ".commands");
       s.commands.amplitude = r.range(*c, "amplitude", {}, 0, 1, where + ".commands");
       s.commands.amplitudeRate = r.number(*c, "amplitude_rate", 0, 0, 100, where + ".commands");
@@ -312,6 +313,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.commands.lineHold = r.number(*c, "line_hold", 0, 0, 5, where + ".commands");
       s.commands.steer = r.number(*c, "steer", 0, 0, 2, where + ".commands");
       s.commands.ramp = r.flag(*c, "ramp", s.commands.ramp, where + ".commands");
+      s.commands.turnInPlace = r.flag(*c, "turn_in_place", s.commands.turnInPlace, where + ".commands");
       s.commands.lineCommand = r.flag(*c, "line_command", s.commands.lineCommand, where + ".commands");
       s.commands.stepCommand = r.flag(*c, "step_command", s.commands.stepCommand, where + ".commands");
       if (s.commands.lineCommand && s.commands.stepCommand)

@@ -93,6 +93,9 @@ struct CommandDef {
   /// unramped, as play's heading hold turns the robot while W is held (game::Session::holdHeading); 0: the
   /// interlock alone, so a skill never sees a turn while it moves
   double steer = 0.0;
+  /// false: training draws no turn in place (a wz draw), so a skill that must go straight (the stairs) trains on
+  /// its forward draws and steer's turns while moving; wz stays the limit of play's heading hold and turn keys
+  bool turnInPlace = true;
   /// true: the skill sees the line it began on (where it took over, the way it faced) in its aux command slots
   /// (robot::lineIntoCommand), in training, on its card and in play; a ball skill's aux slots hold its ball
   bool lineCommand = false;

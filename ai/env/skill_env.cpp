@@ -39,7 +39,7 @@ void drawVelocity(std::mt19937_64& rng, const robot::CommandDef& c, robot::Skill
   const double pick = unit(rng);
   if (pick < c.zeroProbability) return;
   auto used = [](const robot::Range& r) { return r.lo != 0.0 || r.hi != 0.0; };
-  const double wx = used(c.vx) ? 0.5 : 0.0, wy = used(c.vy) ? 0.25 : 0.0, ww = used(c.wz) ? 0.25 : 0.0;
+  const double wx = used(c.vx) ? 0.5 : 0.0, wy = used(c.vy) ? 0.25 : 0.0, ww = used(c.wz) && c.turnInPlace ? 0.25 : 0.0;
   const double which = (pick - c.zeroProbability) / (1.0 - c.zeroProbability) * (wx + wy + ww);
   if (which < wx) out->vx = uniform(rng, c.vx);
   else if (which < wx + wy) out->vy = uniform(rng, c.vy);

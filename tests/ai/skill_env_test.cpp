@@ -356,6 +356,35 @@ TEST(SkillEnv, ASteeredForwardCommandTurnsAtItsDrawWhileTheRampKeepsItsRates) {
   EXPECT_GT(steered, moving / 2);  // turning while moving, which the interlock alone never gives
 }
 
+// [commands] turn_in_place = false: the draws move the robot or stop it, never turn it on the spot (a third of the
+// stairs' training went to turns in place on the steps their card never asks for)
+TEST(SkillEnv, WithoutTurnsInPlaceNoDrawTurnsTheRobotOnTheSpot) {
+  for (const bool turns : {true, false}) {
+    robot::SkillDef walk = *fixture().tree.find("walk");
+    walk.commands.zeroProbability = 0.0;
+    walk.commands.resampleSeconds = 0.2;  // many draws
+    walk.commands.turnInPlace = turns;
+    ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(4, 1, false));
+    Eigen::MatrixXf obs;
+    env.reset(5, &obs);
+    ai::StepResult r;
+    int turning = 0, moving = 0;
+    for (int s = 0; s < 200; ++s) {
+      env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 4), &r);
+      const Eigen::MatrixXf now = r.observations.middleRows(robot::kObsCommand, 3);
+      for (int i = 0; i < 4; ++i) {
+        turning += now(2, i) != 0.0f;
+        moving += now(0, i) != 0.0f || now(1, i) != 0.0f;
+      }
+    }
+    EXPECT_GT(moving, 400) << turns;
+    if (turns)
+      EXPECT_GT(turning, 100);  // a quarter of the draws turn in place
+    else
+      EXPECT_EQ(turning, 0);
+  }
+}
+
 TEST(SkillEnv, JitteredCommandIntervalsVaryWithinTheirBand) {
   robot::SkillDef walk = *fixture().tree.find("walk");
   walk.commands.zeroProbability = 0.0;
