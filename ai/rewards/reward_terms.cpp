@@ -18,6 +18,10 @@ double lineTurnTarget(double headingError, double offset) {
   return std::clamp(-(kLineTurnPerRad * headingError + kLineTurnPerMetre * offset), -kLineTurnMax, kLineTurnMax);
 }
 
+namespace {
+
+// the ground under foot i's toe and heel (robot::groundHeading) differs by more than kFootEdgeRise, or one of them
+// has none: the foot is half on a step, or overhangs it
 bool footAcrossEdge(const robot::Sensors& sensors, const engine::PhysicsWorld& world, int i) {
   const Eigen::Vector2d h = robot::groundHeading(sensors);
   const Eigen::Vector3d& f = sensors.footPosition[size_t(i)];
@@ -26,8 +30,6 @@ bool footAcrossEdge(const robot::Sensors& sensors, const engine::PhysicsWorld& w
   const double a = world.groundHeight(toe.x(), toe.y(), fromZ), b = world.groundHeight(heel.x(), heel.y(), fromZ);
   return !(std::abs(a - b) <= kFootEdgeRise);  // also when a ray meets nothing (-inf)
 }
-
-namespace {
 
 constexpr double kDeg = 180.0 / M_PI;
 

@@ -75,9 +75,6 @@ inline double targetPelvisHeight(const robot::SkillDef& skill, double amplitude)
 constexpr double kFootEdgeToe = 0.12;
 constexpr double kFootEdgeHeel = -0.04;
 constexpr double kFootEdgeRise = 0.02;
-/// True when the ground under foot `i`'s toe and heel (robot::groundHeading) differs by more than kFootEdgeRise,
-/// or one of them has no ground under it: the foot is half on a step, or overhangs it.
-bool footAcrossEdge(const robot::Sensors& sensors, const engine::PhysicsWorld& world, int i);
 
 /// A named term: value(context), unweighted.
 struct RewardTerm {
