@@ -401,7 +401,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     if (const toml::table* tt = r.table(*t, "terrain", false, where)) {
       const std::string w = where + ".terrain";
-      r.onlyKeys(*tt, {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at", "height"}, w);
+      r.onlyKeys(*tt, {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at", "height", "spawn_along"}, w);
       const std::string type = tt->get("type") && tt->get("type")->value<std::string>() ? *tt->get("type")->value<std::string>() : "";
       if (type != "stairs" && type != "flat" && type != "ceiling")
         throw Error(located(path, r.line(*tt), w + ".type must be \"stairs\", \"flat\" or \"ceiling\""));
@@ -421,6 +421,9 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         if (!a || a->empty()) throw Error(located(path, r.line(*l), w + ".lessons must be a non-empty list of step heights"));
         for (const toml::node& h : *a) d.lessons.push_back(r.number(h, w + ".lessons", 0, 0.5));
       }
+      d.spawnAlong = r.number(*tt, "spawn_along", 0.0, 0.0, 1.0, w);
+      if (d.spawnAlong > 0 && d.kind != TerrainDef::Kind::Stairs)
+        throw Error(located(path, r.line(*tt->get("spawn_along")), w + ".spawn_along starts episodes on a staircase's treads: it needs type = \"stairs\""));
       if (d.kind == TerrainDef::Kind::Stairs && d.lessons.empty())
         throw Error(located(path, r.line(*tt), w + ": stairs need lessons = [step heights]"));
     }

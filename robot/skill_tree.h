@@ -142,6 +142,10 @@ struct TerrainDef {
   double width = 4.0;           ///< across the robot's path [m]
   std::vector<double> lessons;  ///< step heights of the curriculum's lessons, in order [m]
   double advanceAt = 1.0;       ///< average episode score (SkillEnv::curriculumScore) that moves to the next lesson
+  /// Stairs: the probability that a training episode starts on one of the staircase's treads (ai::stairsSpawn:
+  /// up, on the landing or on the way down, facing +X) rather than before the first riser. A rollout is 10.24 s,
+  /// so from the foot of the stairs no episode reaches the way down. Cards always start at the foot.
+  double spawnAlong = 0.0;
 };
 
 /// A command curriculum: lesson i caps the forward command at vx_max[i] (run) or the amplitude command at

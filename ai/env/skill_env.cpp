@@ -197,7 +197,14 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0.0, 0.0, yaw);
   robot::JointArray q = e.robot->command().target;
   for (double& v : q) v += 0.02 * (2.0 * unit(e.rng) - 1.0);
-  e.robot->teleport(*e.world, e.robot->linkPose(*e.world, -1), q);
+  Eigen::Isometry3d base = e.robot->linkPose(*e.world, -1);
+  // [terrain] spawn_along: some episodes start on a tread, the way down among them (drawn only when asked for)
+  if (stairs && skill_.terrain.spawnAlong > 0 && unit(e.rng) < skill_.terrain.spawnAlong) {
+    const double u = unit(e.rng), v = unit(e.rng);
+    const Eigen::Vector2d at = stairsSpawn(skill_.terrain, stepHeight(), u, v);
+    base.translation() += Eigen::Vector3d(at.x(), 0.0, at.y());
+  }
+  e.robot->teleport(*e.world, base, q);
   e.sensors = e.robot->sense(*e.world);
   e.phase = robot::PhaseClock{};
   e.action.fill(0.0f);

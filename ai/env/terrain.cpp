@@ -3,6 +3,7 @@
 #include "ai/env/terrain.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "levels/level.h"
@@ -39,6 +40,19 @@ void addCeiling(engine::PhysicsWorld& world, const robot::TerrainDef& t, const E
   world.addStaticBox(Eigen::Vector3d(mid.x(), mid.y(), t.ceilingHeight + 0.5 * kThickness),
                      Eigen::Quaterniond(Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ())),
                      Eigen::Vector3d(0.5 * length, 0.5 * width, 0.5 * kThickness), friction);
+}
+
+Eigen::Vector2d stairsSpawn(const robot::TerrainDef& t, double stepHeight, double u, double v) {
+  if (t.kind != robot::TerrainDef::Kind::Stairs || t.steps < 1) return Eigen::Vector2d::Zero();
+  const std::vector<levels::BoxDef> treads = levels::expandStairs(stairsOf(t, std::max(stepHeight, 1e-3)));
+  const int n = int(treads.size());
+  const levels::BoxDef& b = treads[std::clamp(int(u * n), 0, n - 1)];
+  const double nearEdge = b.centre.x() - 0.5 * b.size.x();
+  constexpr double kIn = 0.10, kJitter = 0.03, kBeforeFar = 0.25;
+  const double x = b.size.x() <= kIn + kBeforeFar
+                       ? nearEdge + kIn + kJitter * (2.0 * v - 1.0)
+                       : nearEdge + kIn + v * (b.size.x() - kIn - kBeforeFar);
+  return Eigen::Vector2d(x, stepHeight > 0 ? b.size.z() : 0.0);
 }
 
 double terrainEndX(const robot::TerrainDef& t) {

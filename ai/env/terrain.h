@@ -15,6 +15,14 @@ void addTerrain(engine::PhysicsWorld& world, const robot::TerrainDef& terrain, d
 void addCeiling(engine::PhysicsWorld& world, const robot::TerrainDef& terrain, const Eigen::Vector2d& centre, double heading,
                 double behind, double length, double width, double friction);
 
+/// Where a training episode that starts along the staircase puts the pelvis (TerrainDef::spawnAlong): on one of
+/// its treads, the 2 * steps - 1 column tops up to the landing and down again, chosen by u in [0, 1) with equal
+/// odds. On a tread one run deep the pelvis is 0.10 m past the tread's near edge, +-0.03 m by v in [0, 1] (the
+/// G1's soles reach about 0.05 m behind and 0.13 m ahead of it in the default pose, so both stay on the tread);
+/// on a deeper one (the landing) anywhere from 0.10 m in to 0.25 m before its far end. Returns (x, the tread's
+/// height); flat terrain: (0, 0).
+Eigen::Vector2d stairsSpawn(const robot::TerrainDef& terrain, double stepHeight, double u, double v);
+
 /// X of the far end of the stairs (where the last step down ends); 0 for flat terrain.
 double terrainEndX(const robot::TerrainDef& terrain);
 

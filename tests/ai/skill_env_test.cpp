@@ -1,6 +1,7 @@
 // skill_env_test.cpp — the walk training environment: deterministic for a seed whatever the thread count,
 // rewards are the weighted sum of the named terms, and falls terminate.
 #include "ai/env/skill_env.h"
+#include "ai/env/terrain.h"
 #include "engine/core/error.h"
 
 #include <gtest/gtest.h>
@@ -713,4 +714,57 @@ TEST(SkillEnv, LineJitterStartsEachEpisodeWithinItsBoundsOffTheLine) {
   }
   EXPECT_GT(turned, 0.05);  // eight draws of U(-0.3, 0.3) all within 0.05 of 0: chance (1/6)^8
   EXPECT_GT(moved, 0.03);
+}
+
+TEST(StairsSpawn, PutsThePelvisOnATreadUpTheLandingOrDown) {
+  robot::TerrainDef t;  // the stairs skill's staircase: first riser at x = 1, 10 up with a 1 m landing, 9 down
+  t.kind = robot::TerrainDef::Kind::Stairs;
+  t.steps = 10, t.stepDepth = 0.30, t.startX = 1.0, t.topDepth = 1.0;
+  // 19 treads; u picks one with equal odds
+  Eigen::Vector2d at = ai::stairsSpawn(t, 0.15, 0.0, 0.5);  // the first: 0.10 m past x = 1, 0.15 m up
+  EXPECT_NEAR(at.x(), 1.10, 1e-12);
+  EXPECT_NEAR(at.y(), 0.15, 1e-12);
+  at = ai::stairsSpawn(t, 0.15, 0.0, 0.0);  // -0.03 m by v
+  EXPECT_NEAR(at.x(), 1.07, 1e-12);
+  at = ai::stairsSpawn(t, 0.15, 9.5 / 19, 1.0);  // the landing: 3.7 .. 4.7 m, from 3.8 to 4.45
+  EXPECT_NEAR(at.x(), 4.45, 1e-12);
+  EXPECT_NEAR(at.y(), 1.50, 1e-12);
+  at = ai::stairsSpawn(t, 0.15, 0.9999, 1.0);  // the last step down: 4.7 + 8 x 0.3 = 7.1 to 7.4, one rise up
+  EXPECT_NEAR(at.x(), 7.23, 1e-12);
+  EXPECT_NEAR(at.y(), 0.15, 1e-12);
+  at = ai::stairsSpawn(t, 0.15, 12.5 / 19, 0.5);  // the third tread down, 7 rises up: 4.7 + 2 x 0.3 + 0.1
+  EXPECT_NEAR(at.x(), 5.40, 1e-12);
+  EXPECT_NEAR(at.y(), 1.05, 1e-12);
+}
+
+TEST(SkillEnv, SpawnAlongStartsEpisodesStandingOnTheTreadsUpAndDown) {
+  robot::SkillDef stairs = *fixture().tree.find("walk");
+  stairs.commands.stepCommand = true;
+  stairs.commands.zeroProbability = 1.0;  // standing: only the spawn is watched
+  stairs.terrain.kind = robot::TerrainDef::Kind::Stairs;
+  stairs.terrain.lessons = {0.10};
+  stairs.terrain.spawnAlong = 1.0;
+  constexpr int kN = 8, kAux0 = robot::kObsCommand + 4;
+  ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(kN, 1, false));
+  Eigen::MatrixXf obs;
+  env.reset(11, &obs);
+  int up = 0, down = 0;
+  for (int i = 0; i < kN; ++i) {
+    // at the foot every robot sees the first riser (+0.10) ahead; on a tread the next rise is one up or one down
+    // (the landing: one down, or none within sight)
+    const float rise = obs(kAux0, i);
+    EXPECT_TRUE(std::abs(std::abs(rise) - 0.10f) < 1e-3f || rise == 0.0f) << rise;
+    up += rise > 0.05f, down += rise < -0.05f;
+  }
+  EXPECT_GT(up, 0);    // 9 of the 19 treads are on the way up, 9 on the way down:
+  EXPECT_GT(down, 0);  // eight draws all on one side has odds (10/19)^8 each, and the seed is fixed
+  // standing on the tread (not in a box nor above it): nothing falls and the pelvis barely moves up or down
+  ai::StepResult r;
+  for (int s = 0; s < 25; ++s) {
+    env.step(Eigen::MatrixXf::Zero(robot::kActionSize, kN), &r);
+    for (int i = 0; i < kN; ++i) {
+      EXPECT_EQ(r.terminated[i], 0) << i;
+      EXPECT_LT(std::abs(r.observations(robot::kObsLinearVelocity + 2, i)), 0.3f) << "env " << i << " step " << s;
+    }
+  }
 }
