@@ -245,6 +245,11 @@ TEST(SkillTree, BadEntriesAreLocated) {
   const std::string walk = "[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" + gains;
   const std::string badMix = walk + "[skill.walk.card]\ntype = \"velocity\"\nmix = [0.5, 0.5, 0.5, 0.0]\n";
   EXPECT_NE(errorOf(badMix).find("t.toml:21: skill.walk.card.mix must add up to 1"), std::string::npos) << errorOf(badMix);
+  const std::string flatSpawn = walk + "[skill.walk.terrain]\ntype = \"flat\"\nspawn_along = 0.5\n";
+  EXPECT_NE(errorOf(flatSpawn).find("t.toml:21: skill.walk.terrain.spawn_along starts episodes on a staircase's treads"),
+            std::string::npos) << errorOf(flatSpawn);
+  const std::string spawnOverOne = walk + "[skill.walk.terrain]\ntype = \"stairs\"\nlessons = [0.1]\nspawn_along = 1.5\n";
+  EXPECT_NE(errorOf(spawnOverOne).find("spawn_along"), std::string::npos) << errorOf(spawnOverOne);
   const std::string badType = walk + "[skill.walk.card]\ntype = \"juggling\"\n";
   EXPECT_NE(errorOf(badType).find("t.toml:19: skill.walk.card.type"), std::string::npos) << errorOf(badType);
   const std::string keyless = std::regex_replace(walk, std::regex("key = 0\n"), "");  // nothing routes through it
