@@ -187,7 +187,11 @@ int cmdPlay(const PlayArgs& a) {
     outcome = r.outcome == game::Outcome::Won    ? "won (" + r.outcomeReason + ")"
               : r.outcome == game::Outcome::Lost ? "lost (" + r.outcomeReason + ")"
                                                  : std::string("not finished (the run ended first)");
-  const std::string summary = summaryText(level, r, options.seed, outcome.c_str());
+  std::string summary = summaryText(level, r, options.seed, outcome.c_str());
+  for (const game::MissingSkill& m : skills.missing)  // a key the script or autopilot pressed that had no model
+    if (r.telemetry.skillsRequested.count(m.key))
+      summary += "missing    key " + std::to_string(m.key) + " (" + m.name + "): no model at " + m.path +
+                 ", so the key did nothing\n";
   std::fputs(summary.c_str(), stdout);
   if (!a.summary.empty()) engine::writeFileAtomic(a.summary, summary);
   if (!a.log.empty()) {

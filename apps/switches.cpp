@@ -29,7 +29,10 @@ game::SkillSet loadSkills(const robot::RobotModel& model) {
   h.bytes(treeText.data(), treeText.size());
   for (const robot::SkillDef& def : tree.skills) {
     const std::string path = tree.directory + "/" + def.model;
-    if (!std::filesystem::exists(path)) continue;
+    if (!std::filesystem::exists(path)) {
+      set.missing.push_back({def.name, def.key, path});
+      continue;
+    }
     auto policy = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(path));
     if (policy->observationSize() != robot::kObservationSize || policy->actionSize() != robot::kActionSize)
       throw engine::Error(path + ": network sizes do not match the shared observation/action layout");

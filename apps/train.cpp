@@ -210,7 +210,9 @@ int runTrain(const TrainOptions& o) {
       return r.score;
     };
   }
+  int64_t iterationsRun = 0;  // in this process (a resumed run at or past --steps runs none)
   options.onIteration = [&](const ai::TrainerProgress& p) {
+    ++iterationsRun;
     char episodes[96] = "no episode ended";  // long episodes can outlast an iteration's rollout
     if (!std::isnan(p.meanEpisodeReturn))
       std::snprintf(episodes, sizeof episodes, "episode return %.1f  length %.0f", p.meanEpisodeReturn, p.meanEpisodeLength);
@@ -245,6 +247,10 @@ int runTrain(const TrainOptions& o) {
   std::signal(SIGINT, onSigint);
   trainer.run();
   gTrainer = nullptr;
+  if (o.resume && iterationsRun == 0)
+    std::fprintf(stderr, "note: the checkpoint in %s is already at %lld env steps (iteration %lld), at or past --steps %lld: "
+                 "nothing was trained; give a larger --steps to go on\n", runDir.c_str(), (long long)trainer.envSteps(),
+                 (long long)trainer.iteration(), (long long)steps);
 
   // export the best-by-evaluation policy if there is one, else the final one
   ai::PolicyInfo info;

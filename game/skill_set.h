@@ -20,8 +20,16 @@ struct SkillRuntime {
   SkillPolicy policy;
 };
 
+/// A skill of the tree whose model file is not there (not trained yet): its key does nothing in play.
+struct MissingSkill {
+  std::string name;
+  int key = -1;
+  std::string path;
+};
+
 struct SkillSet {
   std::vector<SkillRuntime> skills;
+  std::vector<MissingSkill> missing;  ///< the tree's skills without a model file, in tree order
   uint64_t hash = 0;  ///< content hash of the tree file and every loaded model (0 = no skills)
 
   /// The skill bound to a key (0-9), or nullptr.

@@ -372,6 +372,32 @@ TEST(Cli, TrainingABranchStartsFromItsParentAndWritesOnlyItsOwnFiles) {
   EXPECT_LE(files, before.size() + 2) << "training wrote files other than run.onnx and run.policy.bin";
 }
 
+TEST(Cli, AResumeAtOrPastTheStepsSaysNothingWasTrained) {
+  // one iteration of 4 x 5120 steps, then the same --steps again with --resume: the checkpoint is already there
+  const std::string d = tempDir("resume_done");
+  const std::string args = "train walk --steps 20480 --envs 4 --threads 1 --eval-every 0 --run-dir " + d + "/run --models-dir " + d;
+  ASSERT_EQ(run(args).code, 0);
+  const CliRun r = run(args + " --resume");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.find("iter "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("already at 20480 env steps (iteration 1), at or past --steps 20480: nothing was trained"),
+            std::string::npos) << r.out;
+}
+
+TEST(Cli, AKeyWhoseSkillHasNoModelIsNamedInTheSummary) {
+  // a tree copy with the walk's model alone: key 2 (stairs) does nothing, and the summary says why
+  const std::string d = tempDir("missing_model");
+  fs::copy_file(kSource + "/assets/skills/tree.toml", d + "/tree.toml");
+  fs::copy_file(kSource + "/assets/skills/walk.onnx", d + "/walk.onnx");
+  engine::writeFileAtomic(d + "/stairs.keys", "0.00 tap 2\n");
+  const CliRun r = run("--tree " + d + "/tree.toml play levels/flat --keys " + d + "/stairs.keys --seconds 1");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("used: none (standing controller); requested keys: 2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("missing    key 2 (stairs): no model at " + d + "/stairs.onnx, so the key did nothing"),
+            std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("key 0 (walk)"), std::string::npos) << r.out;  // not requested, and its model is there
+}
+
 TEST(Cli, BranchWithoutParentModelIsAnError) {
   const std::string d = tempDir("orphan");
   const CliRun r = run("train run --steps 20480 --envs 4 --eval-every 0 --run-dir " + d + "/run --models-dir " + d);
