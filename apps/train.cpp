@@ -226,8 +226,9 @@ int runTrain(const TrainOptions& o) {
 
   ai::Trainer trainer(env, config, options);
   if (!o.resume && !o.initFrom.empty()) {
-    trainer.initialiseFrom(ai::loadPolicyState(o.initFrom), float(o.reinflateLogStd));
-    std::printf("initialised from %s (fine-tuning: fresh optimiser and schedules)\n", o.initFrom.c_str());
+    trainer.initialiseFrom(ai::loadPolicyState(o.initFrom), float(o.reinflateLogStd), /*fineTune=*/true);
+    std::printf("initialised from %s (fine-tuning: fresh optimiser and schedules, the normaliser's statistics kept)\n",
+                o.initFrom.c_str());
   } else if (!o.resume && !skill.parent.empty()) {
     const robot::SkillDef* parent = l.tree.find(skill.parent);
     const std::string parentPolicy = modelsDir + "/" + parent->name + ".policy.bin";

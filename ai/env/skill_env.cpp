@@ -295,12 +295,11 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
         if (waits) target = robot::switchBrakeTarget(p, next, target);
         const bool posture = robot::postureAllowsSwitch(p, next, *sensors, t - run) &&
                              robot::cycleAllowsSwitch(p, skill, phase, drift.norm(), t - run);
-        bool ready = !waits || t - run >= robot::maxSwitchWaitTicks(next) ||
-                     (robot::readyForSwitch(p, next, target, command, *sensors, drift.norm()) && posture);
-        if (robot::startsFromDefaultPose(p) && !posture) {  // a settled stand first
-          if (t - run >= 2 * robot::kMaxRestWaitTicks) return false;
-          ready = false;
-        }
+        // as game::Session switches: the posture rule always (into the jump a settled stand, into a ground branch
+        // lying still), then a skill that brakes first its brake; a lead-in that never gets there is drawn again
+        const bool ready = posture && (!waits || t - run >= robot::maxSwitchWaitTicks(next) ||
+                                       robot::readyForSwitch(p, next, target, command, *sensors, drift.norm()));
+        if (!posture && t - run >= 2 * robot::kMaxRestWaitTicks) return false;
         if (ready && robot::phaseAllowsSwitch(p, next, phase)) break;
       }
       engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,

@@ -74,14 +74,14 @@ Trainer::Trainer(VecEnv& env, const PpoConfig& config, TrainerOptions options)
   buffer_.resize(env_.observationSize(), env_.actionSize(), stepsPerEnv_, envs);
 }
 
-void Trainer::initialiseFrom(const PolicyState& parent, float reinflateLogStd) {
+void Trainer::initialiseFrom(const PolicyState& parent, float reinflateLogStd, bool fineTune) {
   if (parent.observationSize() != env_.observationSize() || parent.actionSize() != env_.actionSize() ||
       parent.normalizer.size() != env_.observationSize() || parent.critic.inputSize() != env_.observationSize())
     throw Error("trainer: the parent policy's observation/action sizes (" + std::to_string(parent.observationSize()) +
                 ", " + std::to_string(parent.actionSize()) + ") do not match the environment's (" +
                 std::to_string(env_.observationSize()) + ", " + std::to_string(env_.actionSize()) + ")");
   policy_ = parent;
-  policy_.normalizer.adaptForBranch(kBranchNormalizerCount);
+  if (!fineTune) policy_.normalizer.adaptForBranch(kBranchNormalizerCount);
   if (!std::isnan(reinflateLogStd)) policy_.logStd = policy_.logStd.cwiseMax(reinflateLogStd);
   updater_.optimizer().reset();
   updater_.setAdaptiveLearningRate(std::nan(""));

@@ -486,6 +486,50 @@ TEST(SkillEnv, HandoverFromAGrandparentRoutesThroughTheSkillBetweenForItsTime) {
       EXPECT_NEAR(obs(robot::kObsPreviousAction + j, i), deeper(j), 0.01) << "env " << i << " joint " << j;
 }
 
+TEST(SkillEnv, AHandoverIntoTheJumpWaitsForASettledStandAsPlayDoes) {
+  // walk -> squat -> jump with the squat's time drawn at 0.3 s: the squat's policy bobs (crouch and deeper every
+  // 0.1 s) for its first 0.5 s and then holds the crouch. Play switches into the jump only once the robot stands
+  // settled (robot::postureAllowsSwitch); so must the lead-in: the jump starts with every leg joint slower than
+  // kSettledJointSpeed, after the bobbing, not at the drawn 0.3 s (until session 29 the lead-in switched at
+  // once from a still skill: the jump card's entries had leg joints at up to 4.7 rad/s). A squat that never stops
+  // bobbing never hands over: the lead-in is drawn again.
+  robot::SkillDef walk = *fixture().tree.find("walk");
+  walk.prior.kind = robot::PriorDef::Kind::None;
+  robot::SkillDef jump = *fixture().tree.find("jump");
+  jump.handoverSeconds = {0.5, 0.5};
+  jump.handoverViaSeconds = {0.3, 0.3};
+  const robot::SkillDef& squat = *fixture().tree.find("squat");
+  Eigen::VectorXf crouch = Eigen::VectorXf::Zero(robot::kActionSize), deeper = crouch;
+  for (int leg : {0, 6}) {
+    crouch(leg + 0) = -0.4f, crouch(leg + 3) = 0.8f, crouch(leg + 4) = -0.4f;
+    deeper(leg + 0) = -0.6f, deeper(leg + 3) = 1.2f, deeper(leg + 4) = -0.6f;
+  }
+  for (const int bobTicks : {50, 1000000}) {
+    int squatCalls = 0;
+    const std::vector<ai::HandoverStage> route{
+        {&walk, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) { *a = crouch.replicate(1, obs.cols()); }},
+        {&squat, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
+           const int t = squatCalls++;
+           *a = (t < bobTicks && (t / 10) % 2 == 1 ? deeper : crouch).replicate(1, obs.cols());
+         }}};
+    engine::PhysicsWorld world;
+    world.addGround(1.0);
+    robot::Robot robot(fixture().model, world, 0, 0, 0);
+    robot::Sensors sensors = robot.sense(world);
+    std::mt19937_64 rng(3);
+    ai::HandoverEnd end;
+    const bool handedOver = ai::runHandover(fixture().model, fixture().model, world, robot, &sensors, route, jump, rng, &end);
+    if (bobTicks > 1000) {
+      EXPECT_FALSE(handedOver) << "a squat that never settles must not hand over to the jump";
+      continue;
+    }
+    ASSERT_TRUE(handedOver);
+    EXPECT_GT(squatCalls, bobTicks) << "the switch came while the squat still bobbed";
+    EXPECT_TRUE(robot::isStandingSettled(sensors));
+    for (int j = 0; j < robot::kNumLegJoints; ++j) EXPECT_LT(std::abs(sensors.qd[size_t(j)]), robot::kSettledJointSpeed) << j;
+  }
+}
+
 TEST(SkillEnv, ARampedCommandGoesOnFromTheHandoversAsTheKeysDoInPlay) {
   // the walk (no gait, zero output: it stands) is driven with W held at 1.0 m/s for 0.6 s: the keys' ramp
   // (0.02 m/s per tick) reaches 1.0 after 50 ticks. The run (ramped commands) then starts from that 1.0 and ramps

@@ -250,6 +250,21 @@ TEST(Trainer, BranchInitialisationCopiesParentAndReinflatesLogStd) {
   EXPECT_EQ(trainer.policy().logStd(0), -2.0f);
 }
 
+TEST(Trainer, AFineTuneKeepsTheNormalizersWeightWhereABranchCapsIt) {
+  PendulumEnv env(16);
+  PolicyState saved = makePolicyState(pendulumConfig(), 3, 1, 3);
+  const Eigen::MatrixXf states = Eigen::MatrixXf::Random(3, 4000) * 2.0f;
+  for (int k = 0; k < 100; ++k) saved.normalizer.update(states);  // 400,000 samples seen by the run that saved it
+  ASSERT_GT(saved.normalizer.count(), 4e5);
+  Trainer trainer(env, pendulumConfig(), shortRun(freshDir("finetune")));
+  trainer.initialiseFrom(saved, std::nanf(""), /*fineTune=*/true);
+  EXPECT_EQ(trainer.policy().normalizer.count(), saved.normalizer.count());
+  EXPECT_TRUE(trainer.policy().normalizer.mean() == saved.normalizer.mean());
+  trainer.initialiseFrom(saved);  // a branch: its own observations take over within a few iterations
+  EXPECT_EQ(trainer.policy().normalizer.count(), Trainer::kBranchNormalizerCount);
+  EXPECT_TRUE(trainer.policy().normalizer.mean() == saved.normalizer.mean());
+}
+
 TEST(Trainer, ZeroedOutputLayerActsAsNothingButKeepsTheParentsFeatures) {
   PolicyState parent = makePolicyState(pendulumConfig(), 3, 1, 3);
   const Eigen::MatrixXf obs = Eigen::MatrixXf::Random(3, 5);
