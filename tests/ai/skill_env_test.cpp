@@ -447,23 +447,35 @@ TEST(SkillEnv, HandoverEpisodesStartWithTheParentsFilteredAction) {
   }
 }
 
+// the route walk -> squat -> jump of a handover: the walk without a gait, the walk's time 0.5 s and the squat's 0.3 s
+struct JumpRoute {
+  robot::SkillDef walk, jump;
+  const robot::SkillDef& squat;
+};
+JumpRoute jumpRoute() {
+  JumpRoute r{*fixture().tree.find("walk"), *fixture().tree.find("jump"), *fixture().tree.find("squat")};
+  r.walk.prior.kind = robot::PriorDef::Kind::None;
+  r.jump.handoverSeconds = {0.5, 0.5};
+  r.jump.handoverViaSeconds = {0.3, 0.3};
+  return r;
+}
+
+// both legs bent at (hip pitch, knee, ankle pitch), every other joint at its default
+Eigen::VectorXf legCrouch(float hip, float knee, float ankle) {
+  Eigen::VectorXf a = Eigen::VectorXf::Zero(robot::kActionSize);
+  for (int leg : {0, 6}) a(leg + 0) = hip, a(leg + 3) = knee, a(leg + 4) = ankle;
+  return a;
+}
+
 TEST(SkillEnv, HandoverFromAGrandparentRoutesThroughTheSkillBetweenForItsTime) {
   // walk -> squat -> jump, as a routed request in play: the walk (without a gait, its policy a balanced crouch)
   // drives 0.5 s, the squat takes over once the robot is at rest and runs 0.3 s at a zero command, then the jump.
   // The squat's policy (another crouch depth) is called 0.3 s per environment, and the jump starts with the
   // squat's low-passed action in its previous-action slot (within 0.8^30 of it, from the walk's).
-  robot::SkillDef walk = *fixture().tree.find("walk");
-  walk.prior.kind = robot::PriorDef::Kind::None;
-  robot::SkillDef jump = *fixture().tree.find("jump");
-  jump.handover = 1.0;
-  jump.handoverSeconds = {0.5, 0.5};
-  jump.handoverViaSeconds = {0.3, 0.3};
-  const robot::SkillDef& squat = *fixture().tree.find("squat");
-  Eigen::VectorXf crouch = Eigen::VectorXf::Zero(robot::kActionSize), deeper = crouch;
-  for (int leg : {0, 6}) {
-    crouch(leg + 0) = -0.4f, crouch(leg + 3) = 0.8f, crouch(leg + 4) = -0.4f;
-    deeper(leg + 0) = -0.5f, deeper(leg + 3) = 1.0f, deeper(leg + 4) = -0.5f;
-  }
+  JumpRoute r = jumpRoute();
+  r.jump.handover = 1.0;
+  const robot::SkillDef &walk = r.walk, &jump = r.jump, &squat = r.squat;
+  const Eigen::VectorXf crouch = legCrouch(-0.4f, 0.8f, -0.4f), deeper = legCrouch(-0.5f, 1.0f, -0.5f);
   std::atomic<int> walkCalls{0}, squatCalls{0};
   ai::SkillEnvOptions options = envOptions(4, 2, false);
   options.parent = &walk;
@@ -493,17 +505,9 @@ TEST(SkillEnv, AHandoverIntoTheJumpWaitsForASettledStandAsPlayDoes) {
   // kSettledJointSpeed, after the bobbing, not at the drawn 0.3 s (until session 29 the lead-in switched at
   // once from a still skill: the jump card's entries had leg joints at up to 4.7 rad/s). A squat that never stops
   // bobbing never hands over: the lead-in is drawn again.
-  robot::SkillDef walk = *fixture().tree.find("walk");
-  walk.prior.kind = robot::PriorDef::Kind::None;
-  robot::SkillDef jump = *fixture().tree.find("jump");
-  jump.handoverSeconds = {0.5, 0.5};
-  jump.handoverViaSeconds = {0.3, 0.3};
-  const robot::SkillDef& squat = *fixture().tree.find("squat");
-  Eigen::VectorXf crouch = Eigen::VectorXf::Zero(robot::kActionSize), deeper = crouch;
-  for (int leg : {0, 6}) {
-    crouch(leg + 0) = -0.4f, crouch(leg + 3) = 0.8f, crouch(leg + 4) = -0.4f;
-    deeper(leg + 0) = -0.6f, deeper(leg + 3) = 1.2f, deeper(leg + 4) = -0.6f;
-  }
+  const JumpRoute r = jumpRoute();
+  const robot::SkillDef &walk = r.walk, &jump = r.jump, &squat = r.squat;
+  const Eigen::VectorXf crouch = legCrouch(-0.4f, 0.8f, -0.4f), deeper = legCrouch(-0.6f, 1.2f, -0.6f);
   for (const int bobTicks : {50, 1000000}) {
     int squatCalls = 0;
     const std::vector<ai::HandoverStage> route{
