@@ -55,6 +55,7 @@ struct EvalOptions {
   bool sweep = false;  ///< print achieved against commanded speeds instead of the card
   bool verbose = false;  ///< switches: list every failed trial
   bool priorOnly = false;  ///< the card with zero network output: what the skill's prior does by itself
+  std::string samplePolicy;  ///< policy file: the card with actions drawn from its Gaussian, as training acts
   std::string only;  ///< switches: only the switches into or out of this skill
 };
 

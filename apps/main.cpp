@@ -373,6 +373,7 @@ int main(int argc, char** argv) {
   evalCmd->add_option("--threads", eval.threads, "Threads")->check(CLI::Range(1, 64));
   evalCmd->add_flag("--sweep", eval.sweep, "Walk: hold fixed commands and print achieved against commanded speeds");
   evalCmd->add_flag("--prior-only", eval.priorOnly, "Run the card with zero network output: what the skill's prior does by itself (no model needed)");
+  evalCmd->add_option("--sample", eval.samplePolicy, "Run the card with actions drawn from this policy file's Gaussian (its mean and log-std: the policy as training acts, seeded by --seed) instead of the ONNX model's mean; a diagnostic of training against the card");
   evalCmd->add_flag("--verbose", eval.verbose, "Switches: list every failed trial (keys, moment, latency, time of the fall)");
   evalCmd->add_option("--only", eval.only, "Switches: only the switches into or out of this skill (the same trials as in the full run)");
 
@@ -390,8 +391,8 @@ int main(int argc, char** argv) {
     if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
     if (*evalCmd && eval.skill != "switches" && !eval.only.empty())
       throw engine::Error("--only picks the switches of one skill: it goes with eval switches");
-    if (*evalCmd && eval.skill == "switches" && (eval.priorOnly || eval.sweep || !eval.model.empty()))
-      throw engine::Error("eval switches runs the shipped models: it takes no --prior-only, --sweep or --model");
+    if (*evalCmd && eval.skill == "switches" && (eval.priorOnly || eval.sweep || !eval.model.empty() || !eval.samplePolicy.empty()))
+      throw engine::Error("eval switches runs the shipped models: it takes no --prior-only, --sweep, --model or --sample");
     if (*evalCmd && eval.skill == "switches") {
       apps::SwitchEvalOptions sw;
       if (eval.episodes > 0) sw.trials = eval.episodes;

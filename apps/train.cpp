@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <random>
 #include <sstream>
 
 #include "ai/env/skill_env.h"
@@ -15,6 +16,7 @@
 #include "ai/onnx/skill_metadata.h"
 #include "ai/onnx/policy_onnx.h"
 #include "ai/ppo/checkpoint.h"
+#include "ai/ppo/gaussian.h"
 #include "ai/ppo/ppo_config.h"
 #include "ai/ppo/trainer.h"
 #include "apps/commands.h"
@@ -312,18 +314,34 @@ int runEval(const EvalOptions& o) {
     throw engine::Error(l.tree.path + ": skill '" + o.skill + "' has no [skill." + o.skill + ".card] table, so it has no report card");
   if (o.priorOnly && (o.sweep || !o.model.empty()))
     throw engine::Error("eval --prior-only runs the card with zero network output: it takes no --model or --sweep");
+  if (!o.samplePolicy.empty() && (o.priorOnly || o.sweep || !o.model.empty()))
+    throw engine::Error("eval --sample draws the card's actions from a policy file: it takes no --prior-only, --model or --sweep");
   const std::string onnxPath = o.priorOnly ? "none (the prior alone)"
+                               : !o.samplePolicy.empty() ? o.samplePolicy + " (actions drawn from its Gaussian)"
                                : o.model.empty() ? l.tree.directory + "/" + l.skill->model : o.model;
   std::unique_ptr<ai::LoadedPolicy> policy;
-  if (!o.priorOnly) {
+  std::unique_ptr<ai::PolicyState> sampled;  // --sample: mean and log-std, with a seeded noise stream
+  std::mt19937_64 noise(o.seed * 0x9E3779B97F4A7C15ull + 17);
+  if (!o.samplePolicy.empty()) {
+    sampled = std::make_unique<ai::PolicyState>(ai::loadPolicyState(o.samplePolicy));
+    if (sampled->actor.inputSize() != robot::kObservationSize || sampled->actor.outputSize() != robot::kActionSize)
+      throw engine::Error(o.samplePolicy + ": network sizes do not match the shared layout");
+  } else if (!o.priorOnly) {
     policy = std::make_unique<ai::LoadedPolicy>(ai::loadPolicyOnnx(onnxPath));
     if (policy->observationSize() != robot::kObservationSize || policy->actionSize() != robot::kActionSize)
       throw engine::Error(onnxPath + ": network sizes do not match the shared layout");
     ai::checkModelMatchesSkill(*policy, onnxPath, l.model, *l.skill, l.tree.path);
   }
   const ai::PolicyFn act = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
-    if (policy) policy->act(obs, a);
-    else *a = Eigen::MatrixXf::Zero(robot::kActionSize, obs.cols());
+    if (sampled) {  // called once a tick for the whole batch, on one thread: the draws are in a fixed order
+      Eigen::MatrixXf mean;
+      ai::actDeterministic(*sampled, obs, &mean);
+      ai::sampleGaussian(&noise, mean, sampled->logStd, a);
+    } else if (policy) {
+      policy->act(obs, a);
+    } else {
+      *a = Eigen::MatrixXf::Zero(robot::kActionSize, obs.cols());
+    }
   };
   if (o.sweep) {
     std::vector<robot::SkillCommand> commands;
