@@ -125,8 +125,8 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
     const double c = p < 0.6 ? skill.prior.crouch * 0.5 * (1.0 - std::cos(2.0 * M_PI * p / 0.6)) : 0.0;
     for (size_t j = 0; j < size_t(kNumJoints); ++j) out->target[j] += c * skill.prior.poseOffset[j];
   }
-  for (size_t j = 0; j < size_t(kNumJoints); ++j)
-    out->target[j] = std::clamp(out->target[j], model.joints[j].lower, model.joints[j].upper);
+  for (size_t j = 0; j < size_t(kNumJoints); ++j)  // the turn term (zero unless the prior has one)
+    out->target[j] = std::clamp(out->target[j] + skill.prior.turn[j] * command.wz, model.joints[j].lower, model.joints[j].upper);
 }
 
 bool startsFromDefaultPose(const SkillDef& skill) { return !isGroundSkill(skill) && skill.prior.kind == PriorDef::Kind::Keyframes; }

@@ -172,7 +172,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     s.settleFirst = r.flag(*t, "settle_first", s.settleFirst, where);
 
     if (const toml::table* p = r.table(*t, "prior", false, where)) {
-      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat", "repeat_from"}, where + ".prior");
+      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat", "repeat_from", "turn"}, where + ".prior");
       const std::string type = p->get("type") && p->get("type")->value<std::string>() ? *p->get("type")->value<std::string>() : "";
       if (type == "phase") s.prior.kind = PriorDef::Kind::Phase;
       else if (type == "pose") s.prior.kind = PriorDef::Kind::Pose;
@@ -199,6 +199,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         if (!late->as_table()) throw Error(located(path, r.line(*late), where + ".prior.late must be a table of joint groups"));
         r.groups(*late->as_table(), where + ".prior.late", model, &s.prior.lateOffset, nullptr, -3, 3);
         s.prior.hasLate = true;
+      }
+      if (const toml::node* turn = p->get("turn")) {
+        if (!turn->as_table()) throw Error(located(path, r.line(*turn), where + ".prior.turn must be a table of joint groups (rad per rad/s of wz)"));
+        r.groups(*turn->as_table(), where + ".prior.turn", model, &s.prior.turn, nullptr, -1, 1);
       }
       s.prior.crouch = r.number(*p, "crouch", 0, 0, 1, where + ".prior");
       if (offset) {
@@ -479,7 +483,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
                       "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
                       "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
                       "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg", "push_every_s",
-                      "lie_s", "rise_s", "after_s", "push_ups", "rise", "crawl_distance", "crawl_speed", "lead_in"}, w);
+                      "lie_s", "rise_s", "after_s", "push_ups", "rise", "crawl_distance", "crawl_speed", "steer", "lead_in"}, w);
       const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
       if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick" &&
           type != "prone" && type != "standup" && type != "pushup" && type != "crawl")
@@ -512,6 +516,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       }
       d.crawlDistance = r.number(*c, "crawl_distance", 5, 0.1, 100, w);
       d.crawlSpeed = r.number(*c, "crawl_speed", 0.25, 0.01, 10, w);
+      d.steer = r.number(*c, "steer", 0, 0, 100, w);
+      if (d.steer > 0 && (d.kind != CardDef::Kind::Crawl || s.commands.wz.lo >= 0 || s.commands.wz.hi <= 0))
+        throw Error(located(path, r.line(*c->get("steer")), w + ".steer: only a crawl card steers, and the skill's commands need a wz range "
+                                                               "either side of 0 (wz = [-x, x]) to steer with"));
       d.pushUps = int(r.number(*c, "push_ups", 3, 1, 1000, w));
       d.pushUpRise = r.number(*c, "rise", 0.08, 0, 2, w);
       d.proneSeconds = r.number(*c, "prone_s", 3, 0.01, 3600, w);

@@ -60,6 +60,9 @@ struct PriorDef {
   /// Arm swing per forward command [rad per m/s], as the lab's agent does: each shoulder pitch swings against its
   /// own leg's hip (left shoulder - armSwing vx cos(pi tp / T1)), which cancels part of the legs' yaw torque.
   double armSwing = 0.0;
+  /// Turn per yaw-rate command [rad per rad/s]: joint offsets scaled by the command's wz and added to the prior of
+  /// any kind (a crawl turns by twisting its waist: the gait alone has no way to steer). Zero: no turn term.
+  JointArray turn{};
 };
 
 /// The two stage weights of a pose prior at amplitude a: first (offset) and late (lateOffset); see PriorDef.
@@ -234,6 +237,10 @@ struct CardDef {
   double pushUpRise = 0.08;     ///< ... each a rise of the torso link's origin this high, trough to crest [m]
   double crawlDistance = 5.0;   ///< Crawl: this far along the tunnel [m] ...
   double crawlSpeed = 0.25;     ///< ... at this mean speed at least [m/s]
+  /// Crawl: the card steers as a player would (0 = never): a yaw-rate command of -steer x (heading off the tunnel's
+  /// axis [rad] + 0.5 x offset across it [m]), that error averaged over the last second (the gait's rock swings the
+  /// heading within each cycle), within the skill's wz range [rad/s per rad]
+  double steer = 0.0;
   /// Velocity-type cards (kick, ...): each episode starts as the skill's training handover episodes do (from
   /// training.handover_from or the parent, through the skills in between, handover_s / handover_via_s /
   /// handover_vx), that is as play enters the skill, rather than from the spawn stance; a lead-in that falls

@@ -65,6 +65,7 @@ struct Episode {
   double offset = 0, headingOff = 0;  // the latest offset across the tunnel [m] and heading from its axis [rad], left > 0
   int reachTick = -1, gainTick = 0, longestStall = 0;
   bool outside = false;
+  double steerError = 0;  // crawls steered by the card: the line error averaged over about a second [rad]
   double friction = 1;
   Stage fellIn = kDone;  // where it fell (kDone: it did not)
   robot::FallCause fallCause = robot::FallCause::None;
@@ -177,6 +178,10 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
         robot::lineIntoCommand(e.sensors, e.start, e.along, &line);
         e.offset = line.aux1, e.headingOff = line.aux0;
         e.side = std::max(e.side, std::abs(e.offset));
+        if (o.steer > 0) {  // as a player steers: back toward the axis, not at every swing of the rock
+          e.steerError += engine::kTickSeconds * (e.headingOff + 0.5 * e.offset - e.steerError);
+          e.command.wz = std::clamp(-o.steer * e.steerError, skill.commands.wz.lo, skill.commands.wz.hi);
+        }
         if (progress >= e.best + 0.1) {
           e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
           e.best = progress, e.gainTick = e.stageTick;

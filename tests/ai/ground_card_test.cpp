@@ -104,3 +104,26 @@ TEST(CrawlCard, ThePriorAloneCrawlsForwardUnderTheCeilingAndStandingStillFails) 
   EXPECT_EQ(figure(still, "episodes crawling").value, 0.0);
   EXPECT_FALSE(still.pass);
 }
+
+// a cycle twisted 0.05 rad at the waist turns the prior's crawl left (crawl.train.md: about 3 deg/s); the card's
+// steering, through the prior's turn term, turns it back toward the tunnel's axis as a player would
+TEST(CrawlCard, TheCardSteersATurningCrawlBackTowardTheAxis) {
+  Tree t;
+  robot::SkillDef crawl = *t.tree.find("crawl");
+  crawl.randomisation.friction = {1.0, 1.0};
+  for (robot::PriorDef::Keyframe& key : crawl.prior.keyframes)
+    if (key.tick >= crawl.prior.cycleStartTick) key.offset[12] += 0.05;  // waist_yaw: a left turn on every cycle
+  crawl.prior.turn[12] = 1.0;  // 1 rad of waist per rad/s of wz
+  crawl.commands.wz = {-0.1, 0.1};
+  ai::CardRun run = Tree::twoEpisodes(crawl, 3);
+  run.card.crawlDistance = 2.0;
+  run.card.episodeSeconds = 14.0;
+  const ai::CardResult drifting = t.groundCard(crawl, run);
+  run.card.steer = 1.0;
+  const ai::CardResult steered = t.groundCard(crawl, run);
+  const double before = figure(drifting, "heading off the tunnel's axis at the end, mean (left").value;
+  const double after = figure(steered, "heading off the tunnel's axis at the end, mean (left").value;
+  std::printf("heading at the end: %.1f deg drifting, %.1f deg steered\n", before, after);
+  EXPECT_GT(before, 10.0);  // left, as the twist turns it
+  EXPECT_LT(std::abs(after), 0.5 * before);
+}

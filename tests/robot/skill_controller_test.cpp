@@ -725,3 +725,41 @@ TEST(Switching, AGroundBranchTakesOverFromProneOnlyOnceTheRobotLiesStill) {
   EXPECT_TRUE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 86, 0.05), 0));  // lying face down, still
   EXPECT_TRUE(robot::postureAllowsSwitch(pushup, prone, sensors(0.20, 60, 0.3), 0));   // back down: not held
 }
+
+TEST(Prior, TheTurnTermTwistsTheJointsByTheYawRateCommand) {
+  const std::string dir = testing::TempDir() + "/tree_turn";
+  std::filesystem::create_directories(dir);
+  const std::string gains = "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
+                            "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
+                            "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
+  auto load = [&](const std::string& turn) {
+    std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", " + turn +
+                                          "keys = [{ t = 0.3, offset = { knee = 1.0 } }] }\n[skill.walk.rewards]\nlive = 1\n" + gains;
+    return robot::loadSkillTree(dir + "/t.toml", model());
+  };
+  const robot::SkillTree tree = load("turn = { waist_yaw = 1.0, left_hip_yaw = -0.5 }, ");
+  const robot::SkillDef& walk = *tree.find("walk");
+  auto offset = [&](double wz, size_t j) {
+    robot::SkillCommand c;
+    c.wz = wz;
+    robot::PdCommand pd;
+    robot::skillPdCommand(model(), walk, std::array<float, robot::kActionSize>{}, robot::PhaseClock{30}, c, &pd);
+    return pd.target[j] - model().joints[j].defaultPosition;
+  };
+  const size_t waist = 12, leftHipYaw = 2, rightHipYaw = 8, leftKnee = 3;
+  EXPECT_NEAR(offset(0.05, waist), 0.05, 1e-12);      // 1 rad per rad/s
+  EXPECT_NEAR(offset(-0.05, waist), -0.05, 1e-12);    // the other way for a right turn
+  EXPECT_NEAR(offset(0.04, leftHipYaw), -0.02, 1e-12);
+  EXPECT_DOUBLE_EQ(offset(0.04, rightHipYaw), 0.0);   // "left_" names one side only
+  EXPECT_DOUBLE_EQ(offset(0.0, waist), 0.0);
+  EXPECT_DOUBLE_EQ(offset(0.05, leftKnee), offset(0.0, leftKnee));  // the keys are untouched
+  EXPECT_DOUBLE_EQ(load("").find("walk")->prior.turn[waist], 0.0);  // none: no term
+  for (const char* bad : {"turn = 0.5, ", "turn = { waist_yaw = 2.0 }, ", "turn = { neck = 0.1 }, "}) {
+    try {
+      load(bad);
+      ADD_FAILURE() << "loaded " << bad;
+    } catch (const engine::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("t.toml:4: skill.walk.prior.turn"), std::string::npos) << e.what();
+    }
+  }
+}
