@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <thread>
 
@@ -123,14 +124,18 @@ int runBench(const BenchOptions& o) {
     a.join();
     b.join();
     int wins = 0, falls = 0;
+    std::map<std::string, int> bySkill;
     for (int i = 0; i < o.autopilotSeeds; ++i) {
       const game::PlayResult& p = results[size_t(i)];
       const bool won = p.outcome == game::Outcome::Won;
       wins += won;
       falls += p.telemetry.falls;
-      std::printf("  autopilot seed %-3d %-40s %7.2f s  falls %d\n", i + 1, p.outcomeReason.c_str(),
-                  double(p.ticks) * engine::kTickSeconds, p.telemetry.falls);
+      for (const auto& [skill, n] : p.telemetry.fallsBySkill) bySkill[skill] += n;
+      std::printf("  autopilot seed %-3d %-40s %7.2f s  falls %d%s%s\n", i + 1, p.outcomeReason.c_str(),
+                  double(p.ticks) * engine::kTickSeconds, p.telemetry.falls, p.telemetry.falls ? ": " : "",
+                  game::fallsBySkillText(p.telemetry.fallsBySkill).c_str());
     }
+    if (falls > 0) std::printf("  falls by skill over all the seeds: %s\n", game::fallsBySkillText(bySkill).c_str());
     report("autopilot_mario_wins", wins, "seeds", ("of " + std::to_string(o.autopilotSeeds) + " (issue 6's target: 9 of 10)").c_str());
     report("autopilot_mario_falls", falls, "falls", "(over all the seeds)");
   }

@@ -66,9 +66,10 @@ std::string summaryText(const levels::Level& level, const game::PlayResult& r, u
   }
   s << "falls      " << t.falls;
   if (r.fallen) {
-    std::snprintf(line, sizeof line, " (at %.2f s)", double(r.fallTick) * engine::kTickSeconds);
+    std::snprintf(line, sizeof line, " (the first at %.2f s)", double(r.fallTick) * engine::kTickSeconds);
     s << line;
   }
+  if (!t.fallsBySkill.empty()) s << "; by skill: " << game::fallsBySkillText(t.fallsBySkill);
   s << "\n";
   std::string keys, used;
   for (int k : t.skillsRequested) keys += (keys.empty() ? "" : ", ") + std::to_string(k);

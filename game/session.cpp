@@ -328,6 +328,7 @@ void Session::rulesSystem() {
                                  stuckTicks_ >= kStuckTicks;
   if (down && !down_) {
     ++telemetry_.falls;
+    ++telemetry_.fallsBySkill[active_ ? active_->def.name : std::string()];
     if (!fallen_) fallen_ = true, fallTick_ = tick_;
     if (course_ && course_->onFall(tick_)) {
       respawn(course_->respawnX());
@@ -336,6 +337,15 @@ void Session::rulesSystem() {
   }
   down_ = down;
   if (course_) course_->update(tick_, sensors_, bodyPoints(), physics_, plane_);
+}
+
+std::string fallsBySkillText(const std::map<std::string, int>& falls) {
+  std::vector<std::pair<std::string, int>> order(falls.begin(), falls.end());
+  std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::string text;
+  for (const auto& [skill, n] : order)
+    text += (text.empty() ? "" : ", ") + (skill.empty() ? std::string("no skill") : skill) + " " + std::to_string(n);
+  return text;
 }
 
 void Session::telemetrySystem() {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <random>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -64,6 +65,9 @@ struct SwitchEvent {
   bool respawn = false;  ///< the root taking a respawned robot, not a switch in motion
 };
 
+/// "stairs 2, jump 1": falls by skill, the most first (names alphabetical among equals; "" reads "no skill").
+std::string fallsBySkillText(const std::map<std::string, int>& falls);
+
 /// Running statistics for the summary.
 struct Telemetry {
   std::vector<SwitchEvent> switches;
@@ -72,6 +76,7 @@ struct Telemetry {
   double maxTilt = 0;
   double distance = 0;  ///< horizontal path length of the pelvis [m]
   int falls = 0;        ///< times the robot went down (a game level may put it back up)
+  std::map<std::string, int> fallsBySkill;  ///< the same, by the skill in control when it went down ("" = none)
   std::vector<int64_t> respawns;  ///< ticks the robot was put back at a checkpoint (a teleport)
   int64_t ticks = 0;
   std::set<int> skillsRequested;

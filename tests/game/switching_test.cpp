@@ -348,6 +348,12 @@ TEST(Session, AStandUpStillLyingAfterTenSecondsCountsAsAFall) {
   while (s.telemetry().falls == 0 && s.tick() < since + game::kStandUpTicks + 100) s.step({});
   EXPECT_EQ(s.telemetry().falls, 1);
   EXPECT_EQ(s.fallTick(), since + game::kStandUpTicks);
+  EXPECT_EQ(s.telemetry().fallsBySkill, (std::map<std::string, int>{{"standup", 1}}));  // the skill in control
+}
+
+TEST(Telemetry, FallsBySkillReadMostFirst) {
+  EXPECT_EQ(game::fallsBySkillText({}), "");
+  EXPECT_EQ(game::fallsBySkillText({{"jump", 1}, {"stairs", 3}, {"", 1}, {"kick", 1}}), "stairs 3, no skill 1, jump 1, kick 1");
 }
 
 // a fall on a game level respawns the robot at rest: the root skill takes it (as at the level's start) with the
