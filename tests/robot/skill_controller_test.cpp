@@ -21,6 +21,11 @@ const robot::RobotModel& model() { return fixtures::robotModel(); }
 
 }  // namespace
 
+// a gain for every joint group of a root skill named walk (a tree needs them)
+const std::string kWalkGains = "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
+                               "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
+                               "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
+
 TEST(PhasePrior, LeftLegPeaksMidFirstHalfThenRightLeg) {
   double u1, u2;
   // T1 = 40: tp = 20 is the middle of the left phase: (1 - cos(pi)) / 2 = 1
@@ -225,9 +230,7 @@ TEST(SkillTree, BadEntriesAreLocated) {
     }
     return "";
   };
-  const std::string gains = "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
-                            "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
-                            "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
+  const std::string gains = kWalkGains;
   EXPECT_NE(errorOf("[skill.walk]\nparent = \"\"\nkey = 0\nspeed = 3\n").find("t.toml:4: unknown key 'speed'"),
             std::string::npos);
   EXPECT_NE(errorOf("[skill.walk]\nparent = \"\"\nkey = 12\n").find("t.toml:3:"), std::string::npos);
@@ -414,9 +417,7 @@ TEST(KeyframesPrior, EasesBetweenKeysAndHoldsTheLastWithTheClockStopped) {
 TEST(KeyframesPrior, ARepeatingMotionWrapsItsClockToTheStart) {
   const std::string dir = testing::TempDir() + "/tree_repeat";
   std::filesystem::create_directories(dir);
-  const std::string gains = "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
-                            "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
-                            "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
+  const std::string gains = kWalkGains;
   std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", repeat = true, keys = "
                                     "[{ t = 0.3, offset = { knee = 1.0 } }, { t = 1.2, offset = { knee = 0.0 } }] }\n"
                                     "[skill.walk.rewards]\nlive = 1\n" + gains;
@@ -729,9 +730,7 @@ TEST(Switching, AGroundBranchTakesOverFromProneOnlyOnceTheRobotLiesStill) {
 TEST(Prior, TheTurnTermTwistsTheJointsByTheYawRateCommand) {
   const std::string dir = testing::TempDir() + "/tree_turn";
   std::filesystem::create_directories(dir);
-  const std::string gains = "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
-                            "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
-                            "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
+  const std::string gains = kWalkGains;
   auto load = [&](const std::string& turn) {
     std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", " + turn +
                                           "keys = [{ t = 0.3, offset = { knee = 1.0 } }] }\n[skill.walk.rewards]\nlive = 1\n" + gains;
