@@ -371,8 +371,7 @@ int runEval(const EvalOptions& o) {
     std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s for %g s (model %s, hash %s)\n",
                   o.skill.c_str(), run.card.episodes, l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi,
                   o.skill.c_str(), def.episodeSeconds, onnxPath.c_str(), hash.c_str());
-  else if (def.kind == robot::CardDef::Kind::Crawl)
-  {
+  else if (def.kind == robot::CardDef::Kind::Crawl) {
     char steer[160] = "";
     if (def.steer > 0)
       std::snprintf(steer, sizeof steer, ", steered toward its axis as a player would (wz = -%g x the error, within %g rad/s)",
@@ -381,8 +380,7 @@ int runEval(const EvalOptions& o) {
                   "tunnel %g m wide, its ceiling %g m up%s (model %s, hash %s)\n", o.skill.c_str(), run.card.episodes,
                   l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi, o.skill.c_str(), def.vx.lo, def.vx.hi,
                   l.skill->terrain.width, l.skill->terrain.ceilingHeight, steer, onnxPath.c_str(), hash.c_str());
-  }
-  else {
+  } else {
     std::string leadIn;  // "walk 1-3 s, to rest, one_leg 0-2 s, then " for a lead_in card
     if (def.leadIn) {
       char b[160];

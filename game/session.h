@@ -4,9 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <random>
-#include <map>
 #include <set>
 #include <string>
 #include <vector>
