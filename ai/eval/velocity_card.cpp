@@ -458,6 +458,20 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     std::string when = "  falls per command segment:";
     for (int k = 0; k < segments; ++k) when += (k ? ", " : " ") + std::to_string(bySegment[size_t(k)]);
     r.figures.push_back({when, double(o.episodes - upright), "(reported)", true});
+    if (o.kind == robot::CardDef::Kind::Stairs) {  // where: by the pelvis's x when it fell
+      const robot::TerrainDef& t = skill.terrain;
+      const double top = t.startX + (t.steps - 1) * t.stepDepth, down = top + t.topDepth, end = terrainEndX(t);
+      int where[5] = {0, 0, 0, 0, 0};  // before, up, landing, down, beyond
+      for (const Episode& e : walking) {
+        if (!e.fallen) continue;
+        const double x = e.sensors.basePosition.x();
+        ++where[x < t.startX ? 0 : x < top ? 1 : x < down ? 2 : x < end ? 3 : 4];
+      }
+      char at[160];
+      std::snprintf(at, sizeof at, "  falls by place: before the stairs %d, up %d, landing %d, down %d, beyond %d",
+                    where[0], where[1], where[2], where[3], where[4]);
+      r.figures.push_back({at, double(o.episodes - upright), "(reported)", true});
+    }
   }
   if (o.standEpisodes > 0) {
     const double d = standFalls ? 1e9 : drift;

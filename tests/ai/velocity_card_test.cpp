@@ -37,3 +37,25 @@ TEST(VelocityCard, ALeadInCardRunsTheDriverBeforeEachEpisode) {
   EXPECT_EQ(calls.load(), 0);
   for (const ai::CardFigure& f : without.figures) EXPECT_EQ(f.name.find("lead-in"), std::string::npos) << f.name;
 }
+
+TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
+  // a tilt limit of 0.01 deg makes every episode a fall within its first ticks, where it stands (x = 0): in front
+  // of a staircase that starts 1 m ahead, that is before the stairs; with the staircase 10 m behind (its end at
+  // -10 + 9 x 0.3 + 1 + 9 x 0.3 = -3.6 m) it is beyond them
+  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  robot::SkillDef stairs = *tree.find("stairs");
+  stairs.termination.maxTiltDegrees = 0.01;
+  stairs.terrain.topDepth = 1.0;
+  ai::CardRun run{stairs.card, 1, 1};
+  run.card.episodes = 2;
+  run.card.episodeSeconds = 1.0;
+  const ai::PolicyFn zero = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { act->setZero(robot::kActionSize, obs.cols()); };
+  auto where = [&](double startX) {
+    stairs.terrain.startX = startX;
+    for (const ai::CardFigure& f : ai::runVelocityCard(fixtures::robotModel(), stairs, zero, run).figures)
+      if (f.name.find("falls by place") != std::string::npos) return f.name;
+    return std::string("no breakdown");
+  };
+  EXPECT_NE(where(1.0).find("before the stairs 2, up 0, landing 0, down 0, beyond 0"), std::string::npos) << where(1.0);
+  EXPECT_NE(where(-10.0).find("before the stairs 0, up 0, landing 0, down 0, beyond 2"), std::string::npos) << where(-10.0);
+}
