@@ -347,7 +347,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
       r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx",
-                        "handover_back", "handover_back_from", "handover_back_s", "line_jitter"}, where + ".training");
+                        "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "line_steer"}, where + ".training");
       if (const toml::node* op = tr->get("only_positive_rewards")) {
         auto b = op->value<bool>();
         if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
@@ -376,6 +376,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         const std::array<double, 2> j = r.pair(*tr, "line_jitter", {0.0, 0.0}, 0.0, 2.0, where + ".training");
         s.lineJitterHeading = j[0], s.lineJitterOffset = j[1];
       }
+      s.lineSteer = r.number(*tr, "line_steer", 0, 0, 100, where + ".training");
+      if (s.lineSteer > 0 && (s.commands.wz.lo >= 0 || s.commands.wz.hi <= 0))
+        throw Error(located(path, r.line(*tr->get("line_steer")), where + ".training.line_steer steers with wz, and the skill's "
+                                                                  "commands need a wz range either side of 0 (wz = [-x, x])"));
       s.handoverBack = r.number(*tr, "handover_back", 0, 0, 1, where + ".training");
       s.handoverBackSeconds = r.range(*tr, "handover_back_s", {1.0, 3.0}, 0.01, 60, where + ".training");
       if (const toml::node* hb = tr->get("handover_back_from")) {

@@ -298,6 +298,11 @@ struct SkillDef {
   /// [training] line_jitter = [rad, m], with [commands] line_command: each episode's line is turned by U(-rad, rad)
   /// about where the skill starts and moved across by U(-m, m), so that it starts off its line (0: on it)
   double lineJitterHeading = 0, lineJitterOffset = 0;
+  /// [training] line_steer = k: training episodes are steered back toward the line the skill began on as the crawl
+  /// card's `steer` steers (a player's steering): each tick wz = -k x (heading off the line + 0.5 rad/m x offset
+  /// across it), the error averaged over about a second, within the skill's wz range (which must straddle 0).
+  /// The steered yaw rate does not turn the line (heading_hold and crawl_line keep the episode's own). 0: off.
+  double lineSteer = 0;
   double handoverBack = 0;
   std::string handoverBackFrom;
   Range handoverBackSeconds{1.0, 3.0};

@@ -82,6 +82,7 @@ struct SkillEnv::Env {
   Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // hold_position: where a zero command (or a push) began
   Eigen::Vector2d lineStart = Eigen::Vector2d::Zero(), lineHeading = Eigen::Vector2d::UnitX();  // crawl_line, heading_hold
   double yawRateSmoothed = 0;  // line_turn: the world yaw rate, low-passed over kLineTurnSeconds
+  double steerError = 0;       // [training] line_steer: the line error averaged over about a second [rad]
 };
 
 SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
@@ -233,6 +234,7 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   if (e.ball >= 0) e.ballState = e.world->ballState(e.ball);
   e.tick = 0;
   e.yawRateSmoothed = 0;
+  e.steerError = 0;
   e.liftAskedTicks = 0;
   e.episodeReturn = 0;
   // every episode starts at amplitude 0; a ramped velocity command goes on from the handover's, as the keys' ramp
@@ -410,8 +412,16 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       ballIntoCommand(e.sensors, e.ballState, &e.command);
     }
 
-    // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead
-    if (e.command.wz != 0.0) e.lineHeading = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.lineHeading;
+    // [training] line_steer: steered back toward the line as the crawl card (and a player) steers
+    if (skill_.lineSteer > 0) {
+      robot::SkillCommand line;
+      robot::lineIntoCommand(e.sensors, e.lineStart, e.lineHeading, &line);
+      e.steerError += engine::kTickSeconds * (line.aux0 + 0.5 * line.aux1 - e.steerError);
+      e.command.wz = std::clamp(-skill_.lineSteer * e.steerError, skill_.commands.wz.lo, skill_.commands.wz.hi);
+    }
+    // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead (not a steer back
+    // toward the line)
+    else if (e.command.wz != 0.0) e.lineHeading = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.lineHeading;
 
     const double yawRate = (e.sensors.baseRotation * e.sensors.angularVelocity).z();
     e.yawRateSmoothed += (yawRate - e.yawRateSmoothed) * engine::kTickSeconds / kLineTurnSeconds;

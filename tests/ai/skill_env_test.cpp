@@ -764,6 +764,41 @@ TEST(SkillEnv, LineJitterStartsEachEpisodeWithinItsBoundsOffTheLine) {
   EXPECT_GT(moved, 0.03);
 }
 
+TEST(SkillEnv, LineSteerTurnsTheCommandBackTowardTheLine) {
+  // each episode starts off its line (turned up to 0.3 rad, moved up to 0.2 m): after half a second the steered
+  // yaw-rate command turns back toward it (its sign against the line error's, heading + 0.5 x offset), within
+  // the skill's wz range; without line_steer the yaw-rate command is the draw's, whatever the line
+  robot::SkillDef lined = *fixture().tree.find("walk");
+  lined.commands.lineCommand = true;
+  lined.commands.turnInPlace = false;
+  lined.lineJitterHeading = 0.3;
+  lined.lineJitterOffset = 0.2;
+  lined.lineSteer = 2.0;
+  constexpr int kWz = robot::kObsCommand + 2, kAux0 = robot::kObsCommand + 4, kAux1 = robot::kObsCommand + 5;
+  ai::SkillEnv env(fixture().model, lined, fixture().tree.path, envOptions(8, 1, false));
+  Eigen::MatrixXf obs;
+  env.reset(4, &obs);
+  Eigen::VectorXf error(8);
+  for (int i = 0; i < 8; ++i) error(i) = obs(kAux0, i) + 0.5f * obs(kAux1, i);
+  ai::StepResult r;
+  for (int t = 0; t < 50; ++t) env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 8), &r);
+  int checked = 0;
+  for (int i = 0; i < 8; ++i) {
+    const float wz = r.observations(kWz, i);
+    EXPECT_LE(std::abs(wz), float(lined.commands.wz.hi) + 1e-6f);
+    if (std::abs(error(i)) < 0.05f) continue;  // too near the line for its sign to survive half a second of walking
+    ++checked;
+    EXPECT_GT(std::abs(wz), 0.05f) << "episode " << i << ", error " << error(i);
+    EXPECT_LT(wz * error(i), 0.0f) << "episode " << i << ": wz " << wz << ", error " << error(i);
+  }
+  EXPECT_GE(checked, 4);
+  lined.lineSteer = 0;
+  ai::SkillEnv unsteered(fixture().model, lined, fixture().tree.path, envOptions(8, 1, false));
+  unsteered.reset(4, &obs);
+  for (int t = 0; t < 50; ++t) unsteered.step(Eigen::MatrixXf::Zero(robot::kActionSize, 8), &r);
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(r.observations(kWz, i), 0.0f);  // forward or zero draws (no turn in place)
+}
+
 TEST(StairsSpawn, PutsThePelvisOnATreadUpTheLandingOrDown) {
   robot::TerrainDef t;  // the stairs skill's staircase: first riser at x = 1, 10 up with a 1 m landing, 9 down
   t.kind = robot::TerrainDef::Kind::Stairs;

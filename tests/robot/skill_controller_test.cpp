@@ -291,6 +291,10 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(jitterNoLine).find("t.toml:20: skill.walk.training.line_jitter moves the line a skill sees, and it sees none"),
             std::string::npos)
       << errorOf(jitterNoLine);
+  const std::string steerNoTurn = walk + "[skill.walk.commands]\nvx = [0, 1]\nwz = [0, 0]\n[skill.walk.training]\nline_steer = 1.0\n";
+  EXPECT_NE(errorOf(steerNoTurn).find("t.toml:23: skill.walk.training.line_steer steers with wz, and the skill's commands need a wz range"),
+            std::string::npos)
+      << errorOf(steerNoTurn);
   const std::string rootHandover = walk + "[skill.walk.training]\nhandover = 0.5\n";  // the root has no parent
   EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
       << errorOf(rootHandover);
