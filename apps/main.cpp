@@ -352,7 +352,7 @@ int main(int argc, char** argv) {
   trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")->check(CLI::Range(0, 100000));
   trainCmd->add_option("--eval-episodes", train.evalEpisodes, "Episodes per report-card evaluation during training (default 10; more = a steadier choice of the best policy)")->check(CLI::Range(1, 1000));
   trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd, "Branch init: raise the inherited log-std to at least this");
-  trainCmd->add_option("--init-log-std", train.initLogStd, "Branch init: set the log-std to this (e.g. -2: less exploration noise around a precise prior)")->check(CLI::Range(-5.0, 1.0));
+  trainCmd->add_option("--init-log-std", train.initLogStd, "Branch or --init-from fine-tune: set the log-std to this (e.g. -2: less exploration noise around a precise prior or policy)")->check(CLI::Range(-5.0, 1.0));
   trainCmd->add_option("--critic-warmup", train.criticWarmup, "Iterations at the start that update only the critic (a branch's inherited critic learns the branch's rewards before its advantages move the actor)")->check(CLI::Range(0, 100000));
   trainCmd->add_flag("--freeze-normalizer", train.freezeNormalizer, "Keep the observation normaliser's statistics as loaded (fine-tuning on new states without moving the policy's inputs)");
   trainCmd->add_flag("--zero-output", train.zeroOutput, "Branch init: zero the actor's output layer, so the branch starts as its own prior alone (hidden layers, critic, normaliser and log-std stay the parent's)");

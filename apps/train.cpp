@@ -133,9 +133,11 @@ int runTrain(const TrainOptions& o) {
     if (!(o.learningRate > 0 && o.learningRate < 1)) throw engine::Error("--learning-rate must be in (0, 1)");
     config.learningRate = o.learningRate;  // decays linearly to the config's final rate, as usual
   }
-  if ((o.zeroOutput || !std::isnan(o.initLogStd)) && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
-    throw engine::Error("--zero-output and --init-log-std are a branch's initialisation from its parent: not with --resume, "
-                        "--init-from or for the root skill");
+  if (o.zeroOutput && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
+    throw engine::Error("--zero-output is a branch's initialisation from its parent: not with --resume, --init-from or for the root skill");
+  if (!std::isnan(o.initLogStd) && (o.resume || (o.initFrom.empty() && skill.parent.empty())))
+    throw engine::Error("--init-log-std sets the starting noise of a branch (from its parent) or of a fine-tune (--init-from): "
+                        "not with --resume or for the root skill trained afresh");
   const int64_t steps = o.steps > 0 ? o.steps : skill.trainingSteps;
   const int envs = o.envs > 0 ? o.envs : skill.trainingEnvs;
   const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
@@ -228,9 +230,11 @@ int runTrain(const TrainOptions& o) {
 
   ai::Trainer trainer(env, config, options);
   if (!o.resume && !o.initFrom.empty()) {
-    trainer.initialiseFrom(ai::loadPolicyState(o.initFrom), float(o.reinflateLogStd), /*fineTune=*/true);
-    std::printf("initialised from %s (fine-tuning: fresh optimiser and schedules, the normaliser's statistics kept)\n",
-                o.initFrom.c_str());
+    ai::PolicyState state = ai::loadPolicyState(o.initFrom);
+    if (!std::isnan(o.initLogStd)) state.logStd.setConstant(float(o.initLogStd));  // e.g. less noise to polish with
+    trainer.initialiseFrom(state, float(o.reinflateLogStd), /*fineTune=*/true);
+    std::printf("initialised from %s (fine-tuning: fresh optimiser and schedules, the normaliser's statistics kept)%s\n",
+                o.initFrom.c_str(), std::isnan(o.initLogStd) ? "" : ", log-std set");
   } else if (!o.resume && !skill.parent.empty()) {
     const robot::SkillDef* parent = l.tree.find(skill.parent);
     const std::string parentPolicy = modelsDir + "/" + parent->name + ".policy.bin";

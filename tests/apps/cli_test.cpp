@@ -484,8 +484,12 @@ TEST(Cli, SampledCardDrawsSeededActionsAndLeavesTheRecordAlone) {
 TEST(Cli, BranchInitialisationOptionsAreRefusedWhereTheyWouldDoNothing) {
   const CliRun resume = run("train squat --resume --zero-output --run-dir " + tempDir("zero_resume"));
   EXPECT_EQ(resume.code, 2) << resume.out;
-  EXPECT_NE(resume.out.find("--zero-output and --init-log-std are a branch's initialisation"), std::string::npos) << resume.out;
+  EXPECT_NE(resume.out.find("--zero-output is a branch's initialisation from its parent: not with --resume"), std::string::npos)
+      << resume.out;
   const CliRun root = run("train walk --init-log-std -2 --steps 10 --run-dir " + tempDir("zero_root"));
   EXPECT_EQ(root.code, 2) << root.out;
   EXPECT_NE(root.out.find("for the root skill"), std::string::npos) << root.out;
+  const CliRun resumed = run("train squat --resume --init-log-std -2 --run-dir " + tempDir("std_resume"));
+  EXPECT_EQ(resumed.code, 2) << resumed.out;
+  EXPECT_NE(resumed.out.find("not with --resume"), std::string::npos) << resumed.out;
 }
