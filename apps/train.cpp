@@ -24,6 +24,7 @@
 #include "engine/core/file_io.h"
 #include "engine/core/hash.h"
 #include "engine/loop/clock.h"
+#include "game/session.h"
 #include "robot/skill_layout.h"
 
 namespace apps {
@@ -395,6 +396,12 @@ int runEval(const EvalOptions& o) {
         leadIn += b;
       }
       leadIn = " (" + leadIn + ", then " + o.skill + ")";
+    }
+    if (def.kind == robot::CardDef::Kind::Stairs && def.steer > 0) {  // the player's steering, as the crawl card says it
+      char b[160];
+      std::snprintf(b, sizeof b, ", steered square to the stairs as play's heading hold does (wz = -%g x the heading off them, within %g rad/s)",
+                    def.steer, std::min({game::kHeadingMaxRate, l.skill->commands.wz.hi, -l.skill->commands.wz.lo}));
+      leadIn += b;
     }
     std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s%s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
                   o.skill.c_str(), run.card.episodes, def.episodeSeconds, leadIn.c_str(), def.pushes ? "on" : "off",

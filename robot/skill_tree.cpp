@@ -521,9 +521,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       d.crawlDistance = r.number(*c, "crawl_distance", 5, 0.1, 100, w);
       d.crawlSpeed = r.number(*c, "crawl_speed", 0.25, 0.01, 10, w);
       d.steer = r.number(*c, "steer", 0, 0, 100, w);
-      if (d.steer > 0 && (d.kind != CardDef::Kind::Crawl || s.commands.wz.lo >= 0 || s.commands.wz.hi <= 0))
-        throw Error(located(path, r.line(*c->get("steer")), w + ".steer: only a crawl card steers, and the skill's commands need a wz range "
-                                                               "either side of 0 (wz = [-x, x]) to steer with"));
+      if (d.steer > 0 && ((d.kind != CardDef::Kind::Crawl && d.kind != CardDef::Kind::Stairs) || s.commands.wz.lo >= 0 ||
+                          s.commands.wz.hi <= 0))
+        throw Error(located(path, r.line(*c->get("steer")), w + ".steer: only a crawl or stairs card steers, and the skill's commands "
+                                                               "need a wz range either side of 0 (wz = [-x, x]) to steer with"));
       d.pushUps = int(r.number(*c, "push_ups", 3, 1, 1000, w));
       d.pushUpRise = r.number(*c, "rise", 0.08, 0, 2, w);
       d.proneSeconds = r.number(*c, "prone_s", 3, 0.01, 3600, w);

@@ -240,6 +240,8 @@ struct CardDef {
   /// Crawl: the card steers as a player would (0 = never): a yaw-rate command of -steer x (heading off the tunnel's
   /// axis [rad] + 0.5 x offset across it [m]), that error averaged over the last second (the gait's rock swings the
   /// heading within each cycle), within the skill's wz range [rad/s per rad]
+  /// Stairs: the card keeps the robot square to the staircase as a player would, with play's heading-hold law
+  /// (game::Session::holdHeading): wz = -steer x the heading off +X [rad], at most kHeadingMaxRate and the wz range.
   double steer = 0.0;
   /// Velocity-type cards (kick, ...): each episode starts as the skill's training handover episodes do (from
   /// training.handover_from or the parent, through the skills in between, handover_s / handover_via_s /

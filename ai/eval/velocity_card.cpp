@@ -195,6 +195,12 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         e.world->step(game::kSubstepSeconds);
       }
       e.sensors = e.robot->sense(*e.world);
+      if (o.kind == robot::CardDef::Kind::Stairs && o.steer > 0) {
+        // a player keeping the robot square to the staircase (it runs along +X), with play's heading-hold law
+        // (game::Session::holdHeading): steer x the heading error, at most kHeadingMaxRate and the skill's wz range
+        const double limit = std::min({game::kHeadingMaxRate, walk.commands.wz.hi, -walk.commands.wz.lo});
+        e.command.wz = std::clamp(-o.steer * std::remainder(e.sensors.yaw, 2.0 * M_PI), -limit, limit);
+      }
       const int tick = t + 1;
       ++e.alive;
       if (robot::fallCause(walk.termination, e.sensors) != robot::FallCause::None) {
