@@ -44,6 +44,7 @@ struct Episode {
   double amplitudeTarget = 0, amplitudeRate = 0;  // the amplitude ramps as in training (the skill's rate)
   int liftRun = 0, longestLift = 0;
   double maxX = -1e9;  // furthest pelvis x (stairs)
+  double headingDown = -1;  // stairs: |heading off +X| when the pelvis first crossed the landing's far edge [rad]
   // jumps: the flight in progress, and the best run of qualifying jumps in a row
   double startHeight = 0, apex = 0;
   int flightTicks = 0, inARow = 0, bestInARow = 0, jumps = 0;
@@ -100,6 +101,8 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
               const robot::CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, WorkerPool& pool,
               const std::vector<HandoverStage>& leadIn) {
   const bool walking = mode == Mode::kWalking;
+  const robot::TerrainDef& terrain = walk.terrain;  // stairs: where the way down begins
+  const double downX = terrain.startX + (terrain.steps - 1) * terrain.stepDepth + terrain.topDepth;
   const int n = int(eps.size());
   const int segment = int(std::lround(o.segmentSeconds / engine::kTickSeconds));
   const int settle = int(std::lround(o.settleSeconds / engine::kTickSeconds));
@@ -230,6 +233,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         ++e.counted;
       }
       e.maxX = std::max(e.maxX, e.sensors.basePosition.x());
+      if (e.headingDown < 0 && e.sensors.basePosition.x() > downX) e.headingDown = std::abs(std::remainder(e.sensors.yaw, 2.0 * M_PI));
       if (e.ball >= 0) {
         e.ballState = e.world->ballState(e.ball);
         ballIntoCommand(e.sensors, e.ballState, &e.command);
@@ -392,6 +396,12 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     std::snprintf(name, sizeof name, "episodes up and down %d steps of %.2f m", skill.terrain.steps, o.stepHeight);
     add(name, 100.0 * across / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean progress along the stairs", 100.0 * progress, "(reported) %", true});
+    double heading = 0;
+    int down = 0;
+    for (const Episode& e : walking)
+      if (e.headingDown >= 0) heading += e.headingDown * 180.0 / M_PI, ++down;
+    r.figures.push_back({"heading off the stairs where the way down begins, mean of |.| [deg]", down ? heading / down : 0.0,
+                         "(reported)", true});
     balanceScore = 2.0 * across / std::max(1, o.episodes) + 2.0 * progress;
   }
   if (o.kind == robot::CardDef::Kind::Balance) {

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cstdio>
 
+#include "ai/onnx/policy_onnx.h"
 #include "tests/fixtures.h"
 
 TEST(VelocityCard, ALeadInCardRunsTheDriverBeforeEachEpisode) {
@@ -58,4 +60,31 @@ TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
   };
   EXPECT_NE(where(1.0).find("before the stairs 2, up 0, landing 0, down 0, beyond 0"), std::string::npos) << where(1.0);
   EXPECT_NE(where(-10.0).find("before the stairs 0, up 0, landing 0, down 0, beyond 2"), std::string::npos) << where(-10.0);
+}
+
+TEST(VelocityCard, AStairsCardThatSteersSquaresTheRobotUpToTheStairs) {
+  // the shipped stairs model, 4 episodes each turned up to 0.2 rad (11.5 deg) at the start: unsteered it keeps
+  // roughly that heading (no turn is asked), steered with play's heading-hold law it faces the stairs by the top
+  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const robot::SkillDef stairs = *tree.find("stairs");
+  const ai::LoadedPolicy model = ai::loadPolicyOnnx(fixtures::kSource + "/assets/skills/stairs.onnx");
+  const ai::PolicyFn policy = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { model.act(obs, act); };
+  ai::CardRun run{stairs.card, 1, 2};
+  run.card.episodes = 4;
+  run.card.episodeSeconds = 14.0;  // past the top of the way down (x = 4.7 m at 0.5 m/s)
+  auto heading = [&](double steer) {
+    run.card.steer = steer;
+    double value = -1, progress = 0;
+    for (const ai::CardFigure& f : ai::runVelocityCard(fixtures::robotModel(), stairs, policy, run).figures) {
+      if (f.name.rfind("heading off the stairs", 0) == 0) value = f.value;
+      if (f.name.rfind("mean progress along the stairs", 0) == 0) progress = f.value;
+    }
+    EXPECT_GT(progress, 100.0 * 4.7 / 7.4) << "steer " << steer << ": the episodes must reach the way down";
+    std::printf("steer %g: heading %.2f deg, progress %.1f %%\n", steer, value, progress);
+    return value;
+  };
+  const double unsteered = heading(0.0), steered = heading(2.0);
+  EXPECT_GT(unsteered, 2.0);
+  EXPECT_LT(steered, 2.0);
+  EXPECT_LT(steered, 0.5 * unsteered);
 }
