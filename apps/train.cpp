@@ -400,7 +400,7 @@ int runEval(const EvalOptions& o) {
     if (def.kind == robot::CardDef::Kind::Stairs && def.steer > 0) {  // the player's steering, as the crawl card says it
       char b[160];
       std::snprintf(b, sizeof b, ", steered square to the stairs as play's heading hold does (wz = -%g x the heading off them, within %g rad/s)",
-                    def.steer, std::min({game::kHeadingMaxRate, l.skill->commands.wz.hi, -l.skill->commands.wz.lo}));
+                    def.steer, game::headingHoldLimit(l.skill->commands));
       leadIn += b;
     }
     std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s%s with pushes %s, commands every %g s%s (model %s, hash %s)\n",

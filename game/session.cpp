@@ -264,7 +264,7 @@ void Session::holdHeading(robot::SkillCommand* command) {
   const double offset = along.x() * d.y() - along.y() * d.x();  // left of the line > 0
   const double wanted = headingRef_ - std::atan(range.lineHold * offset);
   const double error = std::remainder(wanted - sensors_.yaw, 2.0 * M_PI);
-  const double limit = std::min({kHeadingMaxRate, range.wz.hi, -range.wz.lo});
+  const double limit = headingHoldLimit(range);
   command->wz = std::clamp(kHeadingGain * error, -limit, limit);
 }
 

@@ -3,6 +3,7 @@
 // pipeline of systems: input -> control -> physics -> rules -> telemetry (render reads snapshot()).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -52,6 +53,8 @@ using robot::kSwitchFadeTicks;
 /// [1/s] and its cap [rad/s] (the walk trained with one of vx / vy / wz at a time; at 0.3 the walk swung 0.4 rad)
 constexpr double kHeadingGain = 2.0;
 constexpr double kHeadingMaxRate = 0.2;
+/// The heading hold's turn-rate cap for a skill: kHeadingMaxRate within its wz range (also the stairs card's steer).
+inline double headingHoldLimit(const robot::CommandDef& range) { return std::min({kHeadingMaxRate, range.wz.hi, -range.wz.lo}); }
 
 struct SessionOptions {
   uint64_t seed = 1;                ///< drives every random choice (today: the initial joint jitter)

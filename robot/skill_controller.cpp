@@ -278,6 +278,11 @@ bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors
   return hasStoodUp(sensors) && restingLevel(sensors);
 }
 
+double steerTowardLine(const CommandDef& commands, double gain, const SkillCommand& line, double* averaged) {
+  *averaged += engine::kTickSeconds * (line.aux0 + 0.5 * line.aux1 - *averaged);
+  return std::clamp(-gain * *averaged, commands.wz.lo, commands.wz.hi);
+}
+
 bool phaseAllowsSwitch(const SkillDef& from, const SkillDef& to, const PhaseClock& phase) {
   if (from.prior.kind != PriorDef::Kind::Phase || (to.switchInPhase.lo <= 0.0 && to.switchInPhase.hi >= 1.0)) return true;
   const double fraction = double(phase.tp) / (2.0 * from.prior.halfPeriodTicks);

@@ -140,6 +140,11 @@ constexpr int kMaxSettleWaitTicks = 300;
 /// three seeds: assets/skills/run.train.md.)
 bool phaseAllowsSwitch(const SkillDef& from, const SkillDef& to, const PhaseClock& phase);
 
+/// Steering back toward a line as a player would (the crawl card's `steer`, training's `line_steer`): the line
+/// error (line.aux0 + 0.5 line.aux1: heading off it [rad] and offset across it [m], robot::lineIntoCommand) is
+/// averaged over about a second in `averaged`, and the yaw-rate command is -gain x that, within the wz range.
+double steerTowardLine(const CommandDef& commands, double gain, const SkillCommand& line, double* averaged);
+
 /// An upright skill whose prior is key poses from the default pose (the jump, the kick).
 bool startsFromDefaultPose(const SkillDef& skill);
 /// Leg joints slower than this [rad/s], with atRestForSwitch, is standing settled.

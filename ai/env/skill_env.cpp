@@ -416,8 +416,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     if (skill_.lineSteer > 0) {
       robot::SkillCommand line;
       robot::lineIntoCommand(e.sensors, e.lineStart, e.lineHeading, &line);
-      e.steerError += engine::kTickSeconds * (line.aux0 + 0.5 * line.aux1 - e.steerError);
-      e.command.wz = std::clamp(-skill_.lineSteer * e.steerError, skill_.commands.wz.lo, skill_.commands.wz.hi);
+      e.command.wz = robot::steerTowardLine(skill_.commands, skill_.lineSteer, line, &e.steerError);
     }
     // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead (not a steer back
     // toward the line)

@@ -59,4 +59,10 @@ double terrainEndX(const robot::TerrainDef& t) {
   return t.kind == robot::TerrainDef::Kind::Stairs ? levels::stairsEndX(stairsOf(t, 0.1)) : 0.0;
 }
 
+Eigen::Vector2d stairsLandingX(const robot::TerrainDef& t) {
+  const levels::StairsDef d = stairsOf(t, 0.1);
+  const double top = d.start.x() + (d.steps - 1) * d.run;
+  return {top, top + d.top};
+}
+
 }  // namespace ai

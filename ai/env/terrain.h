@@ -26,4 +26,7 @@ Eigen::Vector2d stairsSpawn(const robot::TerrainDef& terrain, double stepHeight,
 /// X of the far end of the stairs (where the last step down ends); 0 for flat terrain.
 double terrainEndX(const robot::TerrainDef& terrain);
 
+/// Stairs: X where the landing begins (the top of the way up) and where it ends (the top of the way down).
+Eigen::Vector2d stairsLandingX(const robot::TerrainDef& terrain);
+
 }  // namespace ai

@@ -179,8 +179,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
         e.offset = line.aux1, e.headingOff = line.aux0;
         e.side = std::max(e.side, std::abs(e.offset));
         if (o.steer > 0) {  // as a player steers: back toward the axis, not at every swing of the rock
-          e.steerError += engine::kTickSeconds * (e.headingOff + 0.5 * e.offset - e.steerError);
-          e.command.wz = std::clamp(-o.steer * e.steerError, skill.commands.wz.lo, skill.commands.wz.hi);
+          e.command.wz = robot::steerTowardLine(skill.commands, o.steer, line, &e.steerError);
         }
         if (progress >= e.best + 0.1) {
           e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);

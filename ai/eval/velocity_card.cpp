@@ -101,8 +101,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
               const robot::CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, WorkerPool& pool,
               const std::vector<HandoverStage>& leadIn) {
   const bool walking = mode == Mode::kWalking;
-  const robot::TerrainDef& terrain = walk.terrain;  // stairs: where the way down begins
-  const double downX = terrain.startX + (terrain.steps - 1) * terrain.stepDepth + terrain.topDepth;
+  const double downX = stairsLandingX(walk.terrain).y();  // stairs: where the way down begins
   const int n = int(eps.size());
   const int segment = int(std::lround(o.segmentSeconds / engine::kTickSeconds));
   const int settle = int(std::lround(o.settleSeconds / engine::kTickSeconds));
@@ -201,7 +200,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       if (o.kind == robot::CardDef::Kind::Stairs && o.steer > 0) {
         // a player keeping the robot square to the staircase (it runs along +X), with play's heading-hold law
         // (game::Session::holdHeading): steer x the heading error, at most kHeadingMaxRate and the skill's wz range
-        const double limit = std::min({game::kHeadingMaxRate, walk.commands.wz.hi, -walk.commands.wz.lo});
+        const double limit = game::headingHoldLimit(walk.commands);
         e.command.wz = std::clamp(-o.steer * std::remainder(e.sensors.yaw, 2.0 * M_PI), -limit, limit);
       }
       const int tick = t + 1;
@@ -475,13 +474,13 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     for (int k = 0; k < segments; ++k) when += (k ? ", " : " ") + std::to_string(bySegment[size_t(k)]);
     r.figures.push_back({when, double(o.episodes - upright), "(reported)", true});
     if (o.kind == robot::CardDef::Kind::Stairs) {  // where: by the pelvis's x when it fell
-      const robot::TerrainDef& t = skill.terrain;
-      const double top = t.startX + (t.steps - 1) * t.stepDepth, down = top + t.topDepth, end = terrainEndX(t);
+      const Eigen::Vector2d landing = stairsLandingX(skill.terrain);
+      const double end = terrainEndX(skill.terrain);
       int where[5] = {0, 0, 0, 0, 0};  // before, up, landing, down, beyond
       for (const Episode& e : walking) {
         if (!e.fallen) continue;
         const double x = e.sensors.basePosition.x();
-        ++where[x < t.startX ? 0 : x < top ? 1 : x < down ? 2 : x < end ? 3 : 4];
+        ++where[x < skill.terrain.startX ? 0 : x < landing.x() ? 1 : x < landing.y() ? 2 : x < end ? 3 : 4];
       }
       char at[160];
       std::snprintf(at, sizeof at, "  falls by place: before the stairs %d, up %d, landing %d, down %d, beyond %d",

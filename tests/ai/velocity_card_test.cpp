@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <cstdio>
 
 #include "ai/onnx/policy_onnx.h"
 #include "tests/fixtures.h"
@@ -80,7 +79,6 @@ TEST(VelocityCard, AStairsCardThatSteersSquaresTheRobotUpToTheStairs) {
       if (f.name.rfind("mean progress along the stairs", 0) == 0) progress = f.value;
     }
     EXPECT_GT(progress, 100.0 * 4.7 / 7.4) << "steer " << steer << ": the episodes must reach the way down";
-    std::printf("steer %g: heading %.2f deg, progress %.1f %%\n", steer, value, progress);
     return value;
   };
   const double unsteered = heading(0.0), steered = heading(2.0);
