@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -55,6 +56,13 @@ constexpr double kHeadingGain = 2.0;
 constexpr double kHeadingMaxRate = 0.2;
 /// The heading hold's turn-rate cap for a skill: kHeadingMaxRate within its wz range (also the stairs card's steer).
 inline double headingHoldLimit(const robot::CommandDef& range) { return std::min({kHeadingMaxRate, range.wz.hi, -range.wz.lo}); }
+/// The yaw rate that squares a robot up to the world's +X (the staircase's way) with the heading hold's law:
+/// -gain x the yaw off +X (wrapped to [-pi, pi]), within headingHoldLimit(range). The stairs card's `steer` and
+/// training's `heading_steer`.
+inline double squareToPlusX(double yaw, double gain, const robot::CommandDef& range) {
+  const double limit = headingHoldLimit(range);
+  return std::clamp(-gain * std::remainder(yaw, 2.0 * M_PI), -limit, limit);
+}
 
 struct SessionOptions {
   uint64_t seed = 1;                ///< drives every random choice (today: the initial joint jitter)

@@ -347,7 +347,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
       r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx",
-                        "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "line_steer"}, where + ".training");
+                        "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "line_steer", "heading_steer"}, where + ".training");
       if (const toml::node* op = tr->get("only_positive_rewards")) {
         auto b = op->value<bool>();
         if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
@@ -380,6 +380,13 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       if (s.lineSteer > 0 && (s.commands.wz.lo >= 0 || s.commands.wz.hi <= 0))
         throw Error(located(path, r.line(*tr->get("line_steer")), where + ".training.line_steer steers with wz, and the skill's "
                                                                   "commands need a wz range either side of 0 (wz = [-x, x])"));
+      s.headingSteer = r.number(*tr, "heading_steer", 0, 0, 100, where + ".training");
+      if (s.headingSteer > 0 && (s.commands.wz.lo >= 0 || s.commands.wz.hi <= 0))
+        throw Error(located(path, r.line(*tr->get("heading_steer")), where + ".training.heading_steer steers with wz, and the "
+                                                                     "skill's commands need a wz range either side of 0 (wz = [-x, x])"));
+      if (s.headingSteer > 0 && s.lineSteer > 0)
+        throw Error(located(path, r.line(*tr->get("heading_steer")), where + ".training: heading_steer and line_steer both set "
+                                                                     "the yaw-rate command; choose one"));
       s.handoverBack = r.number(*tr, "handover_back", 0, 0, 1, where + ".training");
       s.handoverBackSeconds = r.range(*tr, "handover_back_s", {1.0, 3.0}, 0.01, 60, where + ".training");
       if (const toml::node* hb = tr->get("handover_back_from")) {

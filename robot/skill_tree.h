@@ -305,6 +305,11 @@ struct SkillDef {
   /// across it), the error averaged over about a second, within the skill's wz range (which must straddle 0).
   /// The steered yaw rate does not turn the line (heading_hold and crawl_line keep the episode's own). 0: off.
   double lineSteer = 0;
+  /// [training] heading_steer = k: training episodes are steered square to the world's +X (the staircase's way,
+  /// which the stairs card steers along) as play's heading hold steers: each tick wz = -k x the yaw off +X, within
+  /// game::headingHoldLimit (kHeadingMaxRate and the skill's wz range, which must straddle 0). The drawn wz is
+  /// replaced, so training walks the stairs as the card and a player do, not turned by random draws. 0: off.
+  double headingSteer = 0;
   double handoverBack = 0;
   std::string handoverBackFrom;
   Range handoverBackSeconds{1.0, 3.0};

@@ -418,6 +418,8 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       robot::lineIntoCommand(e.sensors, e.lineStart, e.lineHeading, &line);
       e.command.wz = robot::steerTowardLine(skill_.commands, skill_.lineSteer, line, &e.steerError);
     }
+    // [training] heading_steer: squared up to +X as the stairs card (and play's heading hold) steers
+    else if (skill_.headingSteer > 0) e.command.wz = game::squareToPlusX(e.sensors.yaw, skill_.headingSteer, skill_.commands);
     // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead (not a steer back
     // toward the line)
     else if (e.command.wz != 0.0) e.lineHeading = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.lineHeading;

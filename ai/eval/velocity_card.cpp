@@ -200,8 +200,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       if (o.kind == robot::CardDef::Kind::Stairs && o.steer > 0) {
         // a player keeping the robot square to the staircase (it runs along +X), with play's heading-hold law
         // (game::Session::holdHeading): steer x the heading error, at most kHeadingMaxRate and the skill's wz range
-        const double limit = game::headingHoldLimit(walk.commands);
-        e.command.wz = std::clamp(-o.steer * std::remainder(e.sensors.yaw, 2.0 * M_PI), -limit, limit);
+        e.command.wz = game::squareToPlusX(e.sensors.yaw, o.steer, walk.commands);
       }
       const int tick = t + 1;
       ++e.alive;

@@ -2,6 +2,7 @@
 // rewards are the weighted sum of the named terms, and falls terminate.
 #include "ai/env/skill_env.h"
 #include "ai/env/terrain.h"
+#include "game/session.h"
 #include "engine/core/error.h"
 
 #include <gtest/gtest.h>
@@ -797,6 +798,45 @@ TEST(SkillEnv, LineSteerTurnsTheCommandBackTowardTheLine) {
   unsteered.reset(4, &obs);
   for (int t = 0; t < 50; ++t) unsteered.step(Eigen::MatrixXf::Zero(robot::kActionSize, 8), &r);
   for (int i = 0; i < 8; ++i) EXPECT_EQ(r.observations(kWz, i), 0.0f);  // forward or zero draws (no turn in place)
+}
+
+TEST(HeadingHold, SquaringToPlusXTurnsBackAtTwiceTheYawWithinTheCap) {
+  robot::CommandDef range;
+  range.wz = {-0.3, 0.3};  // the cap is play's 0.2 rad/s
+  EXPECT_DOUBLE_EQ(game::squareToPlusX(0.05, 2.0, range), -0.10);  // turned left 0.05 rad: turn right at 0.1 rad/s
+  EXPECT_DOUBLE_EQ(game::squareToPlusX(-0.04, 2.0, range), 0.08);
+  EXPECT_DOUBLE_EQ(game::squareToPlusX(0.5, 2.0, range), -0.2);  // capped
+  EXPECT_NEAR(game::squareToPlusX(2.0 * M_PI + 0.05, 2.0, range), -0.10, 1e-12);  // yaw wrapped first
+  EXPECT_DOUBLE_EQ(game::squareToPlusX(3.0, 2.0, range), -0.2);   // nearly turned round: the short way is right
+  range.wz = {-0.1, 0.15};  // a narrower range caps at its nearer end
+  EXPECT_DOUBLE_EQ(game::squareToPlusX(-1.0, 2.0, range), 0.1);
+}
+
+TEST(SkillEnv, HeadingSteerReplacesTheDrawnTurnWithTheHeadingHold) {
+  // flat ground spawns face any way (U(-pi, pi)): nearly every episode is more than 0.1 rad off +X, so the steered
+  // command sits at the heading hold's cap (0.2 rad/s) whatever was drawn; unsteered, the walk's draws are not
+  robot::SkillDef walk = *fixture().tree.find("walk");
+  walk.headingSteer = 2.0;
+  constexpr int kWz = robot::kObsCommand + 2;
+  const float cap = float(game::headingHoldLimit(walk.commands));
+  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(8, 1, false));
+  Eigen::MatrixXf obs;
+  env.reset(5, &obs);
+  ai::StepResult r;
+  for (int t = 0; t < 20; ++t) env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 8), &r);
+  int atCap = 0;
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_LE(std::abs(r.observations(kWz, i)), cap + 1e-6f);
+    atCap += std::abs(std::abs(r.observations(kWz, i)) - cap) < 1e-6f;
+  }
+  EXPECT_GE(atCap, 6);
+  walk.headingSteer = 0;
+  ai::SkillEnv unsteered(fixture().model, walk, fixture().tree.path, envOptions(8, 1, false));
+  unsteered.reset(5, &obs);
+  for (int t = 0; t < 20; ++t) unsteered.step(Eigen::MatrixXf::Zero(robot::kActionSize, 8), &r);
+  int unsteeredAtCap = 0;
+  for (int i = 0; i < 8; ++i) unsteeredAtCap += std::abs(std::abs(r.observations(kWz, i)) - cap) < 1e-6f;
+  EXPECT_LE(unsteeredAtCap, 2);
 }
 
 TEST(StairsSpawn, PutsThePelvisOnATreadUpTheLandingOrDown) {

@@ -295,6 +295,14 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(steerNoTurn).find("t.toml:23: skill.walk.training.line_steer steers with wz, and the skill's commands need a wz range"),
             std::string::npos)
       << errorOf(steerNoTurn);
+  const std::string headingNoTurn = walk + "[skill.walk.commands]\nvx = [0, 1]\nwz = [0, 0]\n[skill.walk.training]\nheading_steer = 2.0\n";
+  EXPECT_NE(errorOf(headingNoTurn).find("t.toml:23: skill.walk.training.heading_steer steers with wz, and the skill's commands need"),
+            std::string::npos)
+      << errorOf(headingNoTurn);
+  const std::string twoSteers = walk + "[skill.walk.commands]\nvx = [0, 1]\nwz = [-1, 1]\n[skill.walk.training]\nline_steer = 1.0\nheading_steer = 2.0\n";
+  EXPECT_NE(errorOf(twoSteers).find("t.toml:24: skill.walk.training: heading_steer and line_steer both set the yaw-rate command"),
+            std::string::npos)
+      << errorOf(twoSteers);
   const std::string rootHandover = walk + "[skill.walk.training]\nhandover = 0.5\n";  // the root has no parent
   EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
       << errorOf(rootHandover);
