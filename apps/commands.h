@@ -33,6 +33,9 @@ struct TrainOptions {
   std::string runDir;     ///< default runs/SKILL
   int evalEvery = 10;     ///< iterations between report-card evaluations (0 = never)
   int evalEpisodes = 10;  ///< episodes of each training evaluation (the card's own count is for `eval`)
+  /// > 0: an evaluation that beats the best confirmed score so far is run again on this many other episodes, and
+  /// that score decides the best policy (0: the evalEpisodes card alone, always on the same episodes)
+  int evalConfirm = 0;
   double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
   double initLogStd = std::nan("");  ///< branch init: set every log-std entry to this (less or more exploration)
   bool freezeNormalizer = false;  ///< keep the loaded observation statistics

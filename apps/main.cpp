@@ -351,6 +351,7 @@ int main(int argc, char** argv) {
   trainCmd->add_option("--run-dir", train.runDir, "Run folder for log.csv, checkpoint.bin, best.bin (default runs/SKILL)");
   trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")->check(CLI::Range(0, 100000));
   trainCmd->add_option("--eval-episodes", train.evalEpisodes, "Episodes per report-card evaluation during training (default 10; more = a steadier choice of the best policy)")->check(CLI::Range(1, 1000));
+  trainCmd->add_option("--eval-confirm", train.evalConfirm, "Episodes of a second card, on other episodes, run when an evaluation beats the best confirmed so far; its score then picks best.bin (default 0: none; the evaluations always replay the same episodes, so their best reads high)")->check(CLI::Range(0, 1000));
   trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd, "Branch init: raise the inherited log-std to at least this");
   trainCmd->add_option("--init-log-std", train.initLogStd, "Branch or --init-from fine-tune: set the log-std to this (e.g. -2: less exploration noise around a precise prior or policy)")->check(CLI::Range(-5.0, 1.0));
   trainCmd->add_option("--critic-warmup", train.criticWarmup, "Iterations at the start that update only the critic (a branch's inherited critic learns the branch's rewards before its advantages move the actor)")->check(CLI::Range(0, 100000));

@@ -357,6 +357,20 @@ TEST(Cli, TrainWritesLogCheckpointAndAValidOnnxModel) {
   EXPECT_NE(onnx.find("left_hip_pitch_joint"), std::string::npos);
 }
 
+TEST(Cli, EvalConfirmScoresACandidateAgainOnOtherEpisodes) {
+  // the first evaluation beats nothing confirmed yet, so it is run again on 2 other episodes, and that card's score
+  // is the one logged and kept with best.bin
+  const std::string d = tempDir("confirm");
+  const CliRun r = run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 1 --eval-episodes 1 --eval-confirm 2 "
+                       "--run-dir " + d + "/run --models-dir " + d);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("(1-episode card"), std::string::npos) << r.out;
+  const size_t at = r.out.find("  confirm: ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(2-episode card on other episodes", at), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(d + "/run/best.bin"));
+}
+
 TEST(Cli, TrainingABranchStartsFromItsParentAndWritesOnlyItsOwnFiles) {
   const std::string d = tempDir("branch");
   const std::string models = d + "/models";
