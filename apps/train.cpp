@@ -205,29 +205,27 @@ int runTrain(const TrainOptions& o) {
   double bestConfirmed = -std::numeric_limits<double>::infinity();  // --eval-confirm: the best confirmed score
   if (skill.card.kind != robot::CardDef::Kind::None && o.evalEvery > 0) {
     drivers = loadCardDrivers(l, modelsDir);
-    options.evaluate = [&](const ai::PolicyState& p) {
-      ai::CardRun card{skill.card, 1000 + o.seed, o.threads};  // a fixed seed, so resumed runs score identically
-      card.card.episodes = o.evalEpisodes;
+    // one card on the policy in memory: `label` heads its line, `what` names the card in its verdict
+    auto scoreOn = [&](const ai::PolicyState& p, uint64_t seed, int episodes, const char* label, const char* what) {
+      ai::CardRun card{skill.card, seed, o.threads};
+      card.card.episodes = episodes;
       card.card.standEpisodes = std::min(4, skill.card.standEpisodes);
       const ai::CardResult r = runCard(
           l, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { ai::actDeterministic(p, obs, act); }, card, drivers);
-      std::printf("  eval: ");
+      std::printf("  %s: ", label);
       for (const auto& f : r.figures) std::printf("%s %.3f  ", f.name.c_str(), f.value);
-      std::printf("-> score %.3f (%d-episode card %s)\n", r.score, card.card.episodes, r.pass ? "PASSES" : "fails");
+      std::printf("-> score %.3f (%d-episode card%s %s)\n", r.score, episodes, what, r.pass ? "PASSES" : "fails");
+      return r.score;
+    };
+    options.evaluate = [&, scoreOn](const ai::PolicyState& p) {
+      // a fixed seed, so resumed runs score identically
+      const double score = scoreOn(p, 1000 + o.seed, o.evalEpisodes, "eval", "");
       // the best of many evaluations on the same episodes is chosen partly for luck on them: a candidate is
       // scored again on other episodes (--eval-confirm), and that score is the one the best is kept by
-      if (o.evalConfirm <= 0 || r.score <= bestConfirmed) return r.score;
-      ai::CardRun confirm{skill.card, 2000 + o.seed, o.threads};
-      confirm.card.episodes = o.evalConfirm;
-      confirm.card.standEpisodes = std::min(4, skill.card.standEpisodes);
-      const ai::CardResult c = runCard(
-          l, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { ai::actDeterministic(p, obs, act); }, confirm, drivers);
-      std::printf("  confirm: ");
-      for (const auto& f : c.figures) std::printf("%s %.3f  ", f.name.c_str(), f.value);
-      std::printf("-> score %.3f (%d-episode card on other episodes %s)\n", c.score, confirm.card.episodes,
-                  c.pass ? "PASSES" : "fails");
-      bestConfirmed = std::max(bestConfirmed, c.score);
-      return c.score;
+      if (o.evalConfirm <= 0 || score <= bestConfirmed) return score;
+      const double confirmed = scoreOn(p, 2000 + o.seed, o.evalConfirm, "confirm", " on other episodes");
+      bestConfirmed = std::max(bestConfirmed, confirmed);
+      return confirmed;
     };
   }
   int64_t iterationsRun = 0;  // in this process (a resumed run at or past --steps runs none)
