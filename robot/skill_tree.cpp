@@ -105,6 +105,9 @@ struct Reader {
   }
 };
 
+// A steer (line_steer, heading_steer, a card's steer) turns with wz: the range must reach either side of 0.
+bool turnsBothWays(const CommandDef& c) { return c.wz.lo < 0 && c.wz.hi > 0; }
+
 }  // namespace
 
 bool jointInGroup(const std::string& jointName, const std::string& group) {
@@ -377,11 +380,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
         s.lineJitterHeading = j[0], s.lineJitterOffset = j[1];
       }
       s.lineSteer = r.number(*tr, "line_steer", 0, 0, 100, where + ".training");
-      if (s.lineSteer > 0 && (s.commands.wz.lo >= 0 || s.commands.wz.hi <= 0))
+      if (s.lineSteer > 0 && !turnsBothWays(s.commands))
         throw Error(located(path, r.line(*tr->get("line_steer")), where + ".training.line_steer steers with wz, and the skill's "
                                                                   "commands need a wz range either side of 0 (wz = [-x, x])"));
       s.headingSteer = r.number(*tr, "heading_steer", 0, 0, 100, where + ".training");
-      if (s.headingSteer > 0 && (s.commands.wz.lo >= 0 || s.commands.wz.hi <= 0))
+      if (s.headingSteer > 0 && !turnsBothWays(s.commands))
         throw Error(located(path, r.line(*tr->get("heading_steer")), where + ".training.heading_steer steers with wz, and the "
                                                                      "skill's commands need a wz range either side of 0 (wz = [-x, x])"));
       if (s.headingSteer > 0 && s.lineSteer > 0)
@@ -528,8 +531,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       d.crawlDistance = r.number(*c, "crawl_distance", 5, 0.1, 100, w);
       d.crawlSpeed = r.number(*c, "crawl_speed", 0.25, 0.01, 10, w);
       d.steer = r.number(*c, "steer", 0, 0, 100, w);
-      if (d.steer > 0 && ((d.kind != CardDef::Kind::Crawl && d.kind != CardDef::Kind::Stairs) || s.commands.wz.lo >= 0 ||
-                          s.commands.wz.hi <= 0))
+      if (d.steer > 0 && ((d.kind != CardDef::Kind::Crawl && d.kind != CardDef::Kind::Stairs) || !turnsBothWays(s.commands)))
         throw Error(located(path, r.line(*c->get("steer")), w + ".steer: only a crawl or stairs card steers, and the skill's commands "
                                                                "need a wz range either side of 0 (wz = [-x, x]) to steer with"));
       d.pushUps = int(r.number(*c, "push_ups", 3, 1, 1000, w));
