@@ -221,7 +221,7 @@ void Session::controlSystem() {
     robot::ballIntoCommand(sensors_, physics_.ballState(course_->firstBall()).position, &command);
   }
   if (active_->def.commands.lineCommand) robot::lineIntoCommand(sensors_, skillLineStart_, skillLineAlong_, &command);
-  if (active_->def.commands.stepCommand) robot::stepIntoCommand(sensors_, physics_, &command);
+  if (active_->def.commands.stepCommand) robot::stepIntoCommand(sensors_, physics_, active_->def.commands.stepLookBack, &command);
   double s, co;
   robot::phaseSignal(phase_.tp, active_->def.prior.halfPeriodTicks, &s, &co);
   robot::Observation o;

@@ -45,6 +45,11 @@ inline const Eigen::Vector3d kChestInTorso(0.004, 0.0, 0.248);
 /// The sole is this far below the ankle-roll (foot) link origin (reference/g1/FACTS.md: 0.035 m).
 constexpr double kSoleDepth = 0.035;
 
+/// Points 1 cm in from the sole's toe and heel, from the foot link's origin along the foot [m]: the sole's box
+/// (assets/robots/g1_23dof.urdf) is 0.18 m long and centred 0.04 m ahead of the ankle.
+constexpr double kSoleToe = 0.12;
+constexpr double kSoleHeel = -0.04;
+
 class Robot {
  public:
   /// Adds the robot to the world with the pelvis at (x, y, spawn height) facing yaw, joints at the default pose.

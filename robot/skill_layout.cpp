@@ -42,7 +42,7 @@ void lineIntoCommand(const Sensors& sensors, const Eigen::Vector2d& start, const
   command->aux1 = std::clamp(along.x() * d.y() - along.y() * d.x(), -2.0, 2.0);
 }
 
-void stepIntoCommand(const Sensors& sensors, const engine::PhysicsWorld& world, SkillCommand* command) {
+void stepIntoCommand(const Sensors& sensors, const engine::PhysicsWorld& world, bool lookBack, SkillCommand* command) {
   const Eigen::Vector2d h = groundHeading(sensors);
   const Eigen::Vector2d p = sensors.basePosition.head<2>();
   const double top = sensors.basePosition.z();
@@ -54,20 +54,30 @@ void stepIntoCommand(const Sensors& sensors, const engine::PhysicsWorld& world, 
   auto isStep = [&](double height) { return !(std::abs(height - here) <= kStepMinRise); };
   command->aux0 = 0.0;
   command->aux1 = kStepLookahead;
-  const int samples = int(std::lround(kStepLookahead / kStepSampleSpacing));
-  for (int k = 1; k <= samples; ++k) {
-    double far = k * kStepSampleSpacing;
-    const double height = heightAt(far);
-    if (!isStep(height)) continue;
-    double near = far - kStepSampleSpacing;
-    for (int i = 0; i < 4; ++i) {  // the edge lies in (near, far]
+  auto edgeBetween = [&](double near, double far) {  // the edge lies in (near, far] (or [far, near) behind)
+    for (int i = 0; i < 4; ++i) {
       const double mid = 0.5 * (near + far);
       (isStep(heightAt(mid)) ? far : near) = mid;
     }
+    return 0.5 * (near + far);
+  };
+  const int samples = int(std::lround(kStepLookahead / kStepSampleSpacing));
+  for (int k = 1; k <= samples; ++k) {
+    const double far = k * kStepSampleSpacing;
+    const double height = heightAt(far);
+    if (!isStep(height)) continue;
     const double rise = std::isfinite(height) && std::isfinite(here) ? height - here : -0.3;
     command->aux0 = std::clamp(rise, -0.3, 0.3);
-    command->aux1 = 0.5 * (near + far);
+    command->aux1 = edgeBetween(far - kStepSampleSpacing, far);
     return;
+  }
+  if (!lookBack) return;
+  double heel = 0.0;  // the rearmost heel's distance along the heading, <= 0
+  for (const Eigen::Vector3d& f : sensors.footPosition) heel = std::min(heel, h.dot(f.head<2>() - p) + kSoleHeel);
+  const double behind = heightAt(heel);
+  if (heel < 0.0 && std::isfinite(behind) && std::isfinite(here) && isStep(behind)) {
+    command->aux0 = std::clamp(here - behind, -0.3, 0.3);
+    command->aux1 = edgeBetween(0.0, heel);
   }
 }
 

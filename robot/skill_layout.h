@@ -71,7 +71,14 @@ constexpr double kStepMinRise = 0.02;
 /// sample that differs from it by more than kStepMinRise is a step, and its edge is found to 1/16 of the spacing
 /// by halving. No step in sight: aux0 = 0, aux1 = kStepLookahead (what flat ground shows). Static geometry only
 /// (engine::PhysicsWorld::groundHeight); without it a blind policy meets each riser with its toes.
-void stepIntoCommand(const Sensors& sensors, const engine::PhysicsWorld& world, SkillCommand* command);
+///
+/// lookBack ([commands] step_look_back): with no step ahead, an edge the pelvis has passed but a foot has not is
+/// reported instead: the ground under the rearmost heel (robot::kSoleHeel, along the heading) differs from the
+/// height under the pelvis by more than kStepMinRise. aux0 is then the step that foot has still to take (here
+/// minus its ground: the last step off a staircase down reads -0.15, as the steps before it), aux1 the edge's
+/// distance from the pelvis, negative (behind), found by halving as ahead. Without it the last step off a
+/// staircase shows flat ground while the trailing foot is still on the last tread.
+void stepIntoCommand(const Sensors& sensors, const engine::PhysicsWorld& world, bool lookBack, SkillCommand* command);
 
 /// Fills an observation from sensors, the model's default pose, the previous action, command and phase.
 void buildObservation(const Sensors& s, const RobotModel& model, const std::array<float, kActionSize>& previousAction,

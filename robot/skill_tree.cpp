@@ -300,7 +300,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     if (const toml::table* c = r.table(*t, "commands", false, where)) {
       r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "amplitude_zero", "pelvis_height", "zero_probability", "resample_s",
                        "resample_jitter", "ramp", "line_hold", "steer", "turn_in_place", "line_command",
-                       "step_command"},
+                       "step_command", "step_look_back"},
                  where + ".commands");
       s.commands.amplitude = r.range(*c, "amplitude", {}, 0, 1, where + ".commands");
       s.commands.amplitudeRate = r.number(*c, "amplitude_rate", 0, 0, 100, where + ".commands");
@@ -323,6 +323,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       s.commands.turnInPlace = r.flag(*c, "turn_in_place", s.commands.turnInPlace, where + ".commands");
       s.commands.lineCommand = r.flag(*c, "line_command", s.commands.lineCommand, where + ".commands");
       s.commands.stepCommand = r.flag(*c, "step_command", s.commands.stepCommand, where + ".commands");
+      s.commands.stepLookBack = r.flag(*c, "step_look_back", s.commands.stepLookBack, where + ".commands");
+      if (s.commands.stepLookBack && !s.commands.stepCommand)
+        throw Error(located(path, c->get("step_look_back") ? r.line(*c->get("step_look_back")) : s.line,
+                            where + ".commands: step_look_back needs step_command = true"));
       if (s.commands.lineCommand && s.commands.stepCommand)
         throw Error(located(path, r.line(*c->get("step_command")), where + ".commands: line_command and step_command both "
                                                                   "use the aux command slots; a skill can have one"));

@@ -105,6 +105,9 @@ struct CommandDef {
   /// true: the skill sees the next step ahead, its rise and distance, in its aux command slots
   /// (robot::stepIntoCommand), in training, on its card and in play: the stairs
   bool stepCommand = false;
+  /// true (with stepCommand): past the last edge ahead, the edge a trailing foot has still to cross is shown
+  /// behind the pelvis (robot::stepIntoCommand's lookBack): the last step off a staircase
+  bool stepLookBack = false;
 };
 
 struct RandomisationDef {

@@ -309,7 +309,7 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
       double s, c;
       robot::phaseSignal(phase.tp, p.prior.halfPeriodTicks, &s, &c);
       robot::SkillCommand seen = command;
-      if (p.commands.stepCommand) robot::stepIntoCommand(*sensors, world, &seen);
+      if (p.commands.stepCommand) robot::stepIntoCommand(*sensors, world, p.commands.stepLookBack, &seen);
       robot::Observation o;
       robot::buildObservation(*sensors, nominal, end->action, seen, s, c, &o);
       for (int j = 0; j < robot::kObservationSize; ++j) obs(j, 0) = o[size_t(j)];
@@ -348,7 +348,7 @@ void SkillEnv::observe(const Env& e, float* out) const {
   robot::phaseSignal(e.phase.tp, skill_.prior.halfPeriodTicks, &s, &c);
   robot::SkillCommand command = e.command;
   if (skill_.commands.lineCommand) robot::lineIntoCommand(e.sensors, e.lineStart, e.lineHeading, &command);
-  if (skill_.commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, &command);
+  if (skill_.commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, skill_.commands.stepLookBack, &command);
   robot::Observation o;
   robot::buildObservation(e.sensors, model_, e.action, command, s, c, &o);
   std::copy(o.begin(), o.end(), out);

@@ -141,7 +141,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
       robot::SkillCommand command = e.stage == kRising ? e.command : still;
       // a skill that keeps to a line sees the one it began on (the tunnel's middle: the card lays the tunnel there)
       if (e.stage == kRising && e.driving->commands.lineCommand) robot::lineIntoCommand(e.sensors, e.start, e.along, &command);
-      if (e.driving->commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, &command);
+      if (e.driving->commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, e.driving->commands.stepLookBack, &command);
       robot::Observation ob;
       robot::buildObservation(e.sensors, model, e.action, command, s, c, &ob);
       for (int k = 0; k < robot::kObservationSize; ++k) obs(k, i) = ob[size_t(k)];

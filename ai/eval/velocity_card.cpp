@@ -163,7 +163,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       double s, c;
       robot::phaseSignal(e.phase.tp, walk.prior.halfPeriodTicks, &s, &c);
       robot::SkillCommand seen = e.command;
-      if (walk.commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, &seen);
+      if (walk.commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, walk.commands.stepLookBack, &seen);
       robot::Observation ob;
       robot::buildObservation(e.sensors, model, e.action, seen, s, c, &ob);
       for (int k = 0; k < robot::kObservationSize; ++k) obs(k, i) = ob[size_t(k)];

@@ -70,10 +70,10 @@ inline double targetPelvisHeight(const robot::SkillDef& skill, double amplitude)
 }
 
 /// foot_edge: where along the foot the ground under it is sampled, from the foot link's origin along the heading
-/// [m]: the sole's box (assets/robots/g1_23dof.urdf: 0.18 m long, centred 0.04 m ahead of the ankle) 1 cm in from
-/// its toe and its heel; a difference of more than kFootEdgeRise between them is a foot standing across an edge
-constexpr double kFootEdgeToe = 0.12;
-constexpr double kFootEdgeHeel = -0.04;
+/// [m]: 1 cm in from the sole's toe and its heel (robot::kSoleToe, robot::kSoleHeel); a difference of more than
+/// kFootEdgeRise between them is a foot standing across an edge
+constexpr double kFootEdgeToe = robot::kSoleToe;
+constexpr double kFootEdgeHeel = robot::kSoleHeel;
 constexpr double kFootEdgeRise = 0.02;
 
 /// A named term: value(context), unweighted.

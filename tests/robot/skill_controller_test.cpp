@@ -287,6 +287,10 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(lineAndStep).find("t.toml:22: skill.walk.commands: line_command and step_command both use the aux"),
             std::string::npos)
       << errorOf(lineAndStep);
+  const std::string lookBackAlone = walk + "[skill.walk.commands]\nvx = [0, 1]\nstep_look_back = true\n";
+  EXPECT_NE(errorOf(lookBackAlone).find("t.toml:21: skill.walk.commands: step_look_back needs step_command = true"),
+            std::string::npos)
+      << errorOf(lookBackAlone);
   const std::string jitterNoLine = walk + "[skill.walk.training]\nline_jitter = [0.3, 0.3]\n";
   EXPECT_NE(errorOf(jitterNoLine).find("t.toml:20: skill.walk.training.line_jitter moves the line a skill sees, and it sees none"),
             std::string::npos)
@@ -517,20 +521,53 @@ TEST(StepCommand, AuxSlotsHoldTheNextRiseAheadAndHowFarAwayItsEdgeIs) {
   s.basePosition = Eigen::Vector3d(1.0, 0.0, 0.78);
   robot::SkillCommand c;
   c.vx = 0.5;
-  robot::stepIntoCommand(s, world, &c);
+  robot::stepIntoCommand(s, world, false, &c);
   EXPECT_NEAR(c.aux0, 0.15, 1e-6);
   EXPECT_NEAR(c.aux1, 0.43, 0.1 / 32 + 1e-9);  // the edge found to 1/16 of the 0.1 m sampling, its middle reported
   EXPECT_DOUBLE_EQ(c.vx, 0.5);                 // the velocity slots are the keys'
   // turned round: flat floor as far as it looks
   s.baseRotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
-  robot::stepIntoCommand(s, world, &c);
+  robot::stepIntoCommand(s, world, false, &c);
   EXPECT_DOUBLE_EQ(c.aux0, 0.0);
   EXPECT_DOUBLE_EQ(c.aux1, robot::kStepLookahead);
   // on the tread 0.1 m from its edge, facing back: the step down
   s.basePosition = Eigen::Vector3d(1.53, 0.0, 0.93);
-  robot::stepIntoCommand(s, world, &c);
+  robot::stepIntoCommand(s, world, false, &c);
   EXPECT_NEAR(c.aux0, -0.15, 1e-6);
   EXPECT_NEAR(c.aux1, 0.10, 0.1 / 32 + 1e-9);
+}
+
+TEST(StepCommand, LookingBackShowsTheLastEdgeATrailingHeelHasStillToCross) {
+  // the last tread of a staircase down, 0.15 m high, its edge at x = 2.0; beyond it flat floor
+  engine::PhysicsWorld world;
+  world.addGround(1.0);
+  world.addStaticBox(Eigen::Vector3d(1.5, 0, 0.075), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 1, 0.075), 1.0);
+  robot::Sensors s;
+  s.basePosition = Eigen::Vector3d(2.1, 0.0, 0.78);  // the pelvis 0.1 m past the edge
+  s.footPosition = {Eigen::Vector3d(1.9, 0.1, 0.19), Eigen::Vector3d(2.3, -0.1, 0.04)};  // left heel at 1.86, on the tread
+  robot::SkillCommand c;
+  robot::stepIntoCommand(s, world, false, &c);  // ahead alone: flat floor
+  EXPECT_DOUBLE_EQ(c.aux0, 0.0);
+  EXPECT_DOUBLE_EQ(c.aux1, robot::kStepLookahead);
+  robot::stepIntoCommand(s, world, true, &c);   // the step down the left foot has still to take, 0.1 m behind
+  EXPECT_NEAR(c.aux0, -0.15, 1e-6);
+  EXPECT_NEAR(c.aux1, -0.1, 0.24 / 32 + 1e-9);  // halved 4 times between the pelvis and the heel 0.24 m behind it
+  s.footPosition[0].x() = 2.05;                 // that heel down past the edge (2.01): flat again
+  robot::stepIntoCommand(s, world, true, &c);
+  EXPECT_DOUBLE_EQ(c.aux0, 0.0);
+  EXPECT_DOUBLE_EQ(c.aux1, robot::kStepLookahead);
+  // a riser ahead wins over one behind: the pelvis on the tread 0.3 m before its edge, a heel on the floor behind
+  s.basePosition = Eigen::Vector3d(1.7, 0.0, 0.93);
+  s.footPosition = {Eigen::Vector3d(0.9, 0.1, 0.04), Eigen::Vector3d(1.8, -0.1, 0.19)};
+  robot::stepIntoCommand(s, world, true, &c);
+  EXPECT_NEAR(c.aux0, -0.15, 1e-6);
+  EXPECT_NEAR(c.aux1, 0.3, 0.1 / 32 + 1e-9);
+  // going up: on the tread, a heel still on the floor below its riser (x = 1.0), 0.15 m behind the pelvis
+  s.basePosition = Eigen::Vector3d(1.15, 0.0, 0.93);
+  s.footPosition = {Eigen::Vector3d(0.95, 0.1, 0.04), Eigen::Vector3d(1.3, -0.1, 0.19)};
+  robot::stepIntoCommand(s, world, true, &c);  // the tread's far edge is 0.85 m ahead, out of sight
+  EXPECT_NEAR(c.aux0, 0.15, 1e-6);
+  EXPECT_NEAR(c.aux1, -0.15, 0.24 / 32 + 1e-9);
 }
 
 TEST(Termination, GroundSkillsMayLieFaceDownButNotRollOntoTheirSideOrBack) {
