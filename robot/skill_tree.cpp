@@ -354,7 +354,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
       r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx",
-                        "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "line_steer", "heading_steer"}, where + ".training");
+                        "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "line_steer", "heading_steer", "heading_steer_share"}, where + ".training");
       if (const toml::node* op = tr->get("only_positive_rewards")) {
         auto b = op->value<bool>();
         if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
@@ -391,6 +391,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
       if (s.headingSteer > 0 && !turnsBothWays(s.commands))
         throw Error(located(path, r.line(*tr->get("heading_steer")), where + ".training.heading_steer steers with wz, and the "
                                                                      "skill's commands need a wz range either side of 0 (wz = [-x, x])"));
+      s.headingSteerShare = r.number(*tr, "heading_steer_share", 1.0, 0.0, 1.0, where + ".training");
+      if (tr->contains("heading_steer_share") && s.headingSteer <= 0)
+        throw Error(located(path, r.line(*tr->get("heading_steer_share")), where + ".training.heading_steer_share is the share of "
+                                                                           "episodes heading_steer steers; set heading_steer too"));
       if (s.headingSteer > 0 && s.lineSteer > 0)
         throw Error(located(path, r.line(*tr->get("heading_steer")), where + ".training: heading_steer and line_steer both set "
                                                                      "the yaw-rate command; choose one"));

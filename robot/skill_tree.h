@@ -313,6 +313,10 @@ struct SkillDef {
   /// game::headingHoldLimit (kHeadingMaxRate and the skill's wz range, which must straddle 0). The drawn wz is
   /// replaced, so training walks the stairs as the card and a player do, not turned by random draws. 0: off.
   double headingSteer = 0;
+  /// [training] heading_steer_share = p: the share of training episodes that heading_steer steers (drawn per episode;
+  /// the rest keep their drawn turns, so the skill learns to walk the stairs squared up and to recover from a turn
+  /// as well). 1: every episode (the default).
+  double headingSteerShare = 1.0;
   double handoverBack = 0;
   std::string handoverBackFrom;
   Range handoverBackSeconds{1.0, 3.0};

@@ -72,6 +72,7 @@ struct SkillEnv::Env {
   int finishedLength = 0;
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
   robot::SkillCommand target;  // the latest draw, which a ramped velocity command is heading for
+  bool headingSteered = false;  // [training] heading_steer steers this episode (heading_steer_share)
   double steer = 0;    // [commands] steer: the draw's turn while moving, on top of the interlocked command
   double keysWz = 0;   // the interlocked (keys') yaw rate, without the steer
   int startStep = 0;  // rollout step the episode began at (curriculum)
@@ -228,6 +229,8 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
     e.lineHeading = Eigen::Rotation2Dd(skill_.lineJitterHeading * (2.0 * unit(e.rng) - 1.0)) * e.lineHeading;
     e.lineStart += skill_.lineJitterOffset * (2.0 * unit(e.rng) - 1.0) * Eigen::Vector2d(-e.lineHeading.y(), e.lineHeading.x());
   }
+  // [training] heading_steer_share: steered episodes drawn only when a share below 1 asks for it (others unchanged)
+  e.headingSteered = skill_.headingSteer > 0 && (skill_.headingSteerShare >= 1.0 || unit(e.rng) < skill_.headingSteerShare);
   // [ball] absent: some episodes without one (drawn only when asked for, so other skills' episodes are unchanged)
   const bool ball = skill_.ball.enabled && !(skill_.ball.absent > 0 && unit(e.rng) < skill_.ball.absent);
   e.ball = ball ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
@@ -419,7 +422,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       e.command.wz = robot::steerTowardLine(skill_.commands, skill_.lineSteer, line, &e.steerError);
     }
     // [training] heading_steer: squared up to +X as the stairs card (and play's heading hold) steers
-    else if (skill_.headingSteer > 0) e.command.wz = game::squareToPlusX(e.sensors.yaw, skill_.headingSteer, skill_.commands);
+    else if (e.headingSteered) e.command.wz = game::squareToPlusX(e.sensors.yaw, skill_.headingSteer, skill_.commands);
     // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead (not a steer back
     // toward the line)
     else if (e.command.wz != 0.0) e.lineHeading = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.lineHeading;

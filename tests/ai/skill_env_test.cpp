@@ -839,6 +839,25 @@ TEST(SkillEnv, HeadingSteerReplacesTheDrawnTurnWithTheHeadingHold) {
   EXPECT_LE(unsteeredAtCap, 2);
 }
 
+TEST(SkillEnv, HeadingSteerShareSteersOnlyThatShareOfEpisodes) {
+  // half the episodes steered: of 16 spawned facing any way, the steered ones sit at the heading hold's cap after
+  // 20 ticks and (nearly all) the others keep their drawn turns; a binomial(16, 0.5) draw lands well inside [3, 13]
+  robot::SkillDef walk = *fixture().tree.find("walk");
+  walk.headingSteer = 2.0;
+  walk.headingSteerShare = 0.5;
+  constexpr int kWz = robot::kObsCommand + 2;
+  const float cap = float(game::headingHoldLimit(walk.commands));
+  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(16, 1, false));
+  Eigen::MatrixXf obs;
+  env.reset(5, &obs);
+  ai::StepResult r;
+  for (int t = 0; t < 20; ++t) env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 16), &r);
+  int atCap = 0;
+  for (int i = 0; i < 16; ++i) atCap += std::abs(std::abs(r.observations(kWz, i)) - cap) < 1e-6f;
+  EXPECT_GE(atCap, 3);
+  EXPECT_LE(atCap, 13);
+}
+
 TEST(StairsSpawn, PutsThePelvisOnATreadUpTheLandingOrDown) {
   robot::TerrainDef t;  // the stairs skill's staircase: first riser at x = 1, 10 up with a 1 m landing, 9 down
   t.kind = robot::TerrainDef::Kind::Stairs;

@@ -307,6 +307,12 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(twoSteers).find("t.toml:24: skill.walk.training: heading_steer and line_steer both set the yaw-rate command"),
             std::string::npos)
       << errorOf(twoSteers);
+  const std::string shareNoSteer = walk + "[skill.walk.commands]\nvx = [0, 1]\nwz = [-1, 1]\n[skill.walk.training]\nheading_steer_share = 0.5\n";
+  EXPECT_NE(errorOf(shareNoSteer).find("t.toml:23: skill.walk.training.heading_steer_share is the share of episodes heading_steer steers"),
+            std::string::npos)
+      << errorOf(shareNoSteer);
+  const std::string shareTooBig = walk + "[skill.walk.commands]\nvx = [0, 1]\nwz = [-1, 1]\n[skill.walk.training]\nheading_steer = 2.0\nheading_steer_share = 1.5\n";
+  EXPECT_NE(errorOf(shareTooBig).find("t.toml:24"), std::string::npos) << errorOf(shareTooBig);
   const std::string rootHandover = walk + "[skill.walk.training]\nhandover = 0.5\n";  // the root has no parent
   EXPECT_NE(errorOf(rootHandover).find("t.toml:20: skill.walk.training.handover needs a parent"), std::string::npos)
       << errorOf(rootHandover);
