@@ -203,6 +203,7 @@ int runTrain(const TrainOptions& o) {
   options.freezeNormalizer = o.freezeNormalizer;
   CardDrivers drivers;
   double bestConfirmed = -std::numeric_limits<double>::infinity();  // --eval-confirm: the best confirmed score
+  const ai::Trainer* trainerSeen = nullptr;  // set once the trainer exists (a resumed run's best is in its checkpoint)
   if (skill.card.kind != robot::CardDef::Kind::None && o.evalEvery > 0) {
     drivers = loadCardDrivers(l, modelsDir);
     // one card on the policy in memory: `label` heads its line, `what` names the card in its verdict
@@ -222,6 +223,9 @@ int runTrain(const TrainOptions& o) {
       const double score = scoreOn(p, 1000 + o.seed, o.evalEpisodes, "eval", "");
       // the best of many evaluations on the same episodes is chosen partly for luck on them: a candidate is
       // scored again on other episodes (--eval-confirm), and that score is the one the best is kept by
+      // a resumed run's best confirmed score is its checkpoint's best (every best a confirmed run keeps is one), so
+      // it confirms exactly when the run would have gone on uninterrupted
+      if (o.resume && std::isinf(bestConfirmed) && trainerSeen) bestConfirmed = trainerSeen->bestScore();
       if (o.evalConfirm <= 0 || score <= bestConfirmed) return score;
       const double confirmed = scoreOn(p, 2000 + o.seed, o.evalConfirm, "confirm", " on other episodes");
       bestConfirmed = std::max(bestConfirmed, confirmed);
@@ -243,6 +247,7 @@ int runTrain(const TrainOptions& o) {
   };
 
   ai::Trainer trainer(env, config, options);
+  trainerSeen = &trainer;
   if (!o.resume && !o.initFrom.empty()) {
     ai::PolicyState state = ai::loadPolicyState(o.initFrom);
     if (!std::isnan(o.initLogStd)) state.logStd.setConstant(float(o.initLogStd));  // e.g. less noise to polish with

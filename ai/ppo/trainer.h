@@ -94,6 +94,8 @@ class Trainer {
   int64_t iteration() const { return iteration_; }
   /// Environment steps so far.
   int64_t envSteps() const { return envSteps_; }
+  /// The best evaluation score so far (-inf: none; a resumed run's is its checkpoint's once run() has resumed).
+  double bestScore() const { return bestScore_; }
   /// Environment steps per environment per iteration (bufferSize / numEnvs).
   int stepsPerEnv() const { return stepsPerEnv_; }
 

@@ -371,6 +371,33 @@ TEST(Cli, EvalConfirmScoresACandidateAgainOnOtherEpisodes) {
   EXPECT_TRUE(fs::exists(d + "/run/best.bin"));
 }
 
+TEST(Cli, AResumedRunConfirmsExactlyWhenTheUninterruptedRunDoes) {
+  // two iterations straight through, and one then a --resume to two: the second iteration's card lines are the
+  // same in both. At seed 2 its card does not beat the first iteration's confirmed score, so neither run confirms
+  // it again (a resumed run that forgot its best confirmed score would)
+  const std::string d = tempDir("confirm_resume");
+  const std::string args = "train walk --seed 2 --envs 4 --threads 1 --eval-every 1 --eval-episodes 1 --eval-confirm 2 --models-dir " + d;
+  const CliRun straight = run(args + " --steps 40960 --run-dir " + d + "/a");
+  ASSERT_EQ(straight.code, 0) << straight.out;
+  ASSERT_EQ(run(args + " --steps 20480 --run-dir " + d + "/b").code, 0);
+  const CliRun resumed = run(args + " --steps 40960 --resume --run-dir " + d + "/b");
+  ASSERT_EQ(resumed.code, 0) << resumed.out;
+  auto secondIteration = [](const std::string& out) {  // the card lines printed before "iter 2/" (after "iter 1/")
+    const size_t from = out.find("iter 1/"), to = out.find("iter 2/");
+    std::string lines;
+    std::istringstream in(out.substr(from == std::string::npos ? 0 : from, to - (from == std::string::npos ? 0 : from)));
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("  eval: ", 0) == 0 || line.rfind("  confirm: ", 0) == 0) lines += line + "\n";
+    return lines;
+  };
+  ASSERT_NE(straight.out.find("iter 2/"), std::string::npos) << straight.out;
+  ASSERT_NE(resumed.out.find("iter 2/"), std::string::npos) << resumed.out;
+  const std::string expected = secondIteration(straight.out);
+  EXPECT_NE(expected.find("  eval: "), std::string::npos) << straight.out;
+  EXPECT_EQ(expected.find("  confirm: "), std::string::npos) << "seed 2's second card now confirms: pick a seed where it does not\n" << straight.out;
+  EXPECT_EQ(secondIteration(resumed.out), expected) << resumed.out;
+}
+
 TEST(Cli, TrainingABranchStartsFromItsParentAndWritesOnlyItsOwnFiles) {
   const std::string d = tempDir("branch");
   const std::string models = d + "/models";
