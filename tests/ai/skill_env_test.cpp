@@ -812,31 +812,39 @@ TEST(HeadingHold, SquaringToPlusXTurnsBackAtTwiceTheYawWithinTheCap) {
   EXPECT_DOUBLE_EQ(game::squareToPlusX(-1.0, 2.0, range), 0.1);
 }
 
+namespace {
+
+// The yaw-rate commands of n walk episodes (flat ground, spawned facing any way) after 20 ticks at zero action.
+std::vector<float> yawRateCommandsAfter20Ticks(const robot::SkillDef& walk, int n) {
+  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(n, 1, false));
+  Eigen::MatrixXf obs;
+  env.reset(5, &obs);
+  ai::StepResult r;
+  for (int t = 0; t < 20; ++t) env.step(Eigen::MatrixXf::Zero(robot::kActionSize, n), &r);
+  std::vector<float> wz(n);
+  for (int i = 0; i < n; ++i) wz[i] = r.observations(robot::kObsCommand + 2, i);
+  return wz;
+}
+
+int atCap(const std::vector<float>& wz, float cap) {
+  int n = 0;
+  for (float w : wz) n += std::abs(std::abs(w) - cap) < 1e-6f;
+  return n;
+}
+
+}  // namespace
+
 TEST(SkillEnv, HeadingSteerReplacesTheDrawnTurnWithTheHeadingHold) {
   // flat ground spawns face any way (U(-pi, pi)): nearly every episode is more than 0.1 rad off +X, so the steered
   // command sits at the heading hold's cap (0.2 rad/s) whatever was drawn; unsteered, the walk's draws are not
   robot::SkillDef walk = *fixture().tree.find("walk");
   walk.headingSteer = 2.0;
-  constexpr int kWz = robot::kObsCommand + 2;
   const float cap = float(game::headingHoldLimit(walk.commands));
-  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(8, 1, false));
-  Eigen::MatrixXf obs;
-  env.reset(5, &obs);
-  ai::StepResult r;
-  for (int t = 0; t < 20; ++t) env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 8), &r);
-  int atCap = 0;
-  for (int i = 0; i < 8; ++i) {
-    EXPECT_LE(std::abs(r.observations(kWz, i)), cap + 1e-6f);
-    atCap += std::abs(std::abs(r.observations(kWz, i)) - cap) < 1e-6f;
-  }
-  EXPECT_GE(atCap, 6);
+  const std::vector<float> steered = yawRateCommandsAfter20Ticks(walk, 8);
+  for (float w : steered) EXPECT_LE(std::abs(w), cap + 1e-6f);
+  EXPECT_GE(atCap(steered, cap), 6);
   walk.headingSteer = 0;
-  ai::SkillEnv unsteered(fixture().model, walk, fixture().tree.path, envOptions(8, 1, false));
-  unsteered.reset(5, &obs);
-  for (int t = 0; t < 20; ++t) unsteered.step(Eigen::MatrixXf::Zero(robot::kActionSize, 8), &r);
-  int unsteeredAtCap = 0;
-  for (int i = 0; i < 8; ++i) unsteeredAtCap += std::abs(std::abs(r.observations(kWz, i)) - cap) < 1e-6f;
-  EXPECT_LE(unsteeredAtCap, 2);
+  EXPECT_LE(atCap(yawRateCommandsAfter20Ticks(walk, 8), cap), 2);
 }
 
 TEST(SkillEnv, HeadingSteerShareSteersOnlyThatShareOfEpisodes) {
@@ -845,17 +853,9 @@ TEST(SkillEnv, HeadingSteerShareSteersOnlyThatShareOfEpisodes) {
   robot::SkillDef walk = *fixture().tree.find("walk");
   walk.headingSteer = 2.0;
   walk.headingSteerShare = 0.5;
-  constexpr int kWz = robot::kObsCommand + 2;
-  const float cap = float(game::headingHoldLimit(walk.commands));
-  ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(16, 1, false));
-  Eigen::MatrixXf obs;
-  env.reset(5, &obs);
-  ai::StepResult r;
-  for (int t = 0; t < 20; ++t) env.step(Eigen::MatrixXf::Zero(robot::kActionSize, 16), &r);
-  int atCap = 0;
-  for (int i = 0; i < 16; ++i) atCap += std::abs(std::abs(r.observations(kWz, i)) - cap) < 1e-6f;
-  EXPECT_GE(atCap, 3);
-  EXPECT_LE(atCap, 13);
+  const int steered = atCap(yawRateCommandsAfter20Ticks(walk, 16), float(game::headingHoldLimit(walk.commands)));
+  EXPECT_GE(steered, 3);
+  EXPECT_LE(steered, 13);
 }
 
 TEST(StairsSpawn, PutsThePelvisOnATreadUpTheLandingOrDown) {
