@@ -398,8 +398,9 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     int down = 0;
     for (const Episode& e : walking)
       if (e.headingDown >= 0) heading += e.headingDown * 180.0 / M_PI, ++down;
-    r.figures.push_back({"heading off the stairs where the way down begins, mean of |.| [deg]", down ? heading / down : 0.0,
-                         "(reported)", true});
+    if (down > 0)  // (no figure when no episode got there: a 0 would read as squared up)
+      r.figures.push_back({"heading off the stairs where the way down begins, mean of |.| [deg]", heading / down,
+                           "(reported)", true});
     balanceScore = 2.0 * across / std::max(1, o.episodes) + 2.0 * progress;
   }
   if (o.kind == robot::CardDef::Kind::Balance) {

@@ -59,6 +59,10 @@ TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
   };
   EXPECT_NE(where(1.0).find("before the stairs 2, up 0, landing 0, down 0, beyond 0"), std::string::npos) << where(1.0);
   EXPECT_NE(where(-10.0).find("before the stairs 0, up 0, landing 0, down 0, beyond 2"), std::string::npos) << where(-10.0);
+  // no episode reached the way down, so the card gives no heading there (rather than a 0 that reads as squared up)
+  stairs.terrain.startX = 1.0;
+  for (const ai::CardFigure& f : ai::runVelocityCard(fixtures::robotModel(), stairs, zero, run).figures)
+    EXPECT_EQ(f.name.find("heading off the stairs"), std::string::npos) << f.name << " " << f.value;
 }
 
 TEST(VelocityCard, AStairsCardThatSteersSquaresTheRobotUpToTheStairs) {
