@@ -252,7 +252,13 @@ void Session::controlSystem() {
 void Session::holdHeading(robot::SkillCommand* command) {
   const robot::CommandDef& range = active_->def.commands;
   const bool moving = command->vx != 0.0 || command->vy != 0.0;
-  const bool canTurn = range.wz.hi > 0.0 && range.wz.lo < 0.0 && !robot::isGroundSkill(active_->def);
+  if (robot::isGroundSkill(active_->def)) {  // the upright hold below is not theirs
+    headingRef_ = sensors_.yaw;
+    lineStart_ = sensors_.basePosition.head<2>();
+    steerToLine(moving, command);
+    return;
+  }
+  const bool canTurn = range.wz.hi > 0.0 && range.wz.lo < 0.0;
   const Eigen::Vector2d p = sensors_.basePosition.head<2>();
   if (!moving || !canTurn || command->wz != 0.0 || restWaitTicks_ >= 0) {
     headingRef_ = sensors_.yaw;
@@ -266,6 +272,24 @@ void Session::holdHeading(robot::SkillCommand* command) {
   const double error = std::remainder(wanted - sensors_.yaw, 2.0 * M_PI);
   const double limit = headingHoldLimit(range);
   command->wz = std::clamp(kHeadingGain * error, -limit, limit);
+}
+
+// A ground skill that trained steered back toward the line it began on ([training] line_steer: the crawl) is steered
+// so in play while it moves with no turn key, by the same law as its training and its card. A turn key takes over;
+// once it is released the line starts again where the robot is, the way it faces then.
+void Session::steerToLine(bool moving, robot::SkillCommand* command) {
+  const robot::SkillDef& def = active_->def;
+  if (def.lineSteer <= 0.0) return;
+  if (command->wz != 0.0) {
+    skillLineStart_ = sensors_.basePosition.head<2>();
+    skillLineAlong_ = robot::groundHeading(sensors_);
+    lineSteerError_ = 0.0;
+    return;
+  }
+  if (!moving || restWaitTicks_ >= 0) return;
+  robot::SkillCommand line;
+  robot::lineIntoCommand(sensors_, skillLineStart_, skillLineAlong_, &line);
+  command->wz = robot::steerTowardLine(def.commands, def.lineSteer, line, &lineSteerError_);
 }
 
 void Session::switchTo(const SkillRuntime* next) {
@@ -287,6 +311,7 @@ void Session::switchTo(const SkillRuntime* next) {
   lineStart_ = sensors_.basePosition.head<2>();
   skillLineStart_ = lineStart_;  // a line-keeping skill (the crawl) keeps to the one it begins on, as it trained
   skillLineAlong_ = robot::groundHeading(sensors_);
+  lineSteerError_ = 0.0;
   // the keys drive the new skill's command ranges (W to its top speed, and so on)
   const robot::CommandDef& r = next->def.commands;
   engine::CommandLimits limits = input_.limits();

@@ -143,6 +143,7 @@ class Session {
   void telemetrySystem();
   void switchTo(const SkillRuntime* next);
   void holdHeading(robot::SkillCommand* command);
+  void steerToLine(bool moving, robot::SkillCommand* command);
   void respawn(double x);
   /// The default pose with every joint jittered by kInitialJitter from the seed's generator (the start, a respawn).
   robot::JointArray jitteredStandingPose();
@@ -178,8 +179,10 @@ class Session {
   Eigen::Vector2d drift_ = Eigen::Vector2d::Zero();  // the pelvis's low-passed velocity (robot::updateDrift)
   double headingRef_ = 0;  // the heading W holds (holdHeading) ...
   Eigen::Vector2d lineStart_ = Eigen::Vector2d::Zero();  // ... and a point of the line it keeps to
-  // a skill with [commands] line_command: the line it began on (where it took over, the way it faced then)
+  // a skill's own line (the observed line of [commands] line_command, the line [training] line_steer steers to): where
+  // it took over, the way it faced then
   Eigen::Vector2d skillLineStart_ = Eigen::Vector2d::Zero(), skillLineAlong_ = Eigen::Vector2d::UnitX();
+  double lineSteerError_ = 0;  // a ground skill's line error, averaged as its line_steer averages it (steerToLine)
 };
 
 }  // namespace game

@@ -397,3 +397,62 @@ TEST(Session, ASkillFromTheDefaultPoseAskedForAtTheSpawnWaitsAHopsTime) {
     EXPECT_EQ(s.telemetry().switches[0].tick, key[0] == '4' ? game::kMinHopTicks : 0) << key;
   }
 }
+
+// a crawl that trained steered back toward its line ([training] line_steer) is steered so in play while W is held
+// and no turn key is (the shipped walk and prone, then the crawl's prior alone): each tick's yaw-rate command is the training's law, wz = -k x (heading off the line + 0.5 x
+// offset across it) averaged over a second, from the line the crawl began on; with line_steer 0 it stays 0
+TEST(Session, ACrawlThatTrainedSteeredIsSteeredBackToItsLineInPlay) {
+  const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
+  auto walk = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(kSource + "/assets/skills/walk.onnx"));
+  auto prone = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(kSource + "/assets/skills/prone.onnx"));
+  const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
+  for (double gain : {0.0, 0.5}) {
+    robot::SkillDef crawl = *shipped.find("crawl");
+    crawl.commands.wz = {-0.05, 0.05};
+    crawl.lineSteer = gain;
+    double observedWz = 0;
+    game::SkillSet skills;
+    skills.skills.push_back({*shipped.find("walk"), [walk](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { walk->act(o, a); }});
+    skills.skills.push_back({*shipped.find("prone"), [prone](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { prone->act(o, a); }});
+    skills.skills.push_back({crawl, [&](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) {
+                               observedWz = o(robot::kObsCommand + 2, 0);
+                               a->setZero(robot::kActionSize, 1);
+                             }});
+    game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &skills});
+    s.step(engine::parseKeyScript("0.00 tap 0\n", "k"));  // the walk, then key 9: through prone (the crawl once the robot lies still)
+    while (s.tick() < 100) s.step({});
+    s.step({{s.tick(), engine::KeyAction::kTap, '9'}});
+    Eigen::Vector2d start, along;
+    double averaged = 0, largest = 0;
+    int steered = 0;
+    int64_t crawlFrom = -1;
+    while (s.tick() < 1600) {
+      const robot::Sensors before = s.sensors();  // what this tick's command is made from
+      const size_t switches = s.telemetry().switches.size();
+      const bool pressW = crawlFrom >= 0 && s.tick() == crawlFrom + 10;  // W held from just after the crawl took over
+      s.step(pressW ? std::vector<engine::KeyEvent>{{s.tick(), engine::KeyAction::kDown, 'W'}} : std::vector<engine::KeyEvent>{});
+      if (s.telemetry().switches.size() > switches && s.activeSkillName() == "crawl") {
+        start = before.basePosition.head<2>(), along = robot::groundHeading(before), averaged = 0;
+        crawlFrom = s.tick();
+      }
+      if (s.activeSkillName() != "crawl" || s.command().vx == 0.0) continue;
+      robot::SkillCommand line;
+      robot::lineIntoCommand(before, start, along, &line);
+      const double expected = gain > 0 ? robot::steerTowardLine(crawl.commands, gain, line, &averaged) : 0.0;
+      ASSERT_NEAR(observedWz, expected, 1e-6) << "tick " << s.tick() << ", line_steer " << gain;
+      largest = std::max(largest, std::abs(observedWz));
+      steered += observedWz != 0.0;
+    }
+    ASSERT_EQ(s.activeSkillName(), "crawl");
+    ASSERT_LT(crawlFrom, 900);  // prone lay down and handed over within 8 s
+    if (gain > 0) {
+      EXPECT_GT(steered, 600);  // W held for at least 690 ticks
+      EXPECT_GT(largest, 0.001);
+      EXPECT_LE(largest, 0.05 + 1e-7);  // within the wz range (a float in the observation)
+    } else {
+      EXPECT_EQ(steered, 0);
+    }
+    EXPECT_FALSE(s.fallen());
+  }
+}
