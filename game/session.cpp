@@ -281,15 +281,19 @@ void Session::steerToLine(bool moving, robot::SkillCommand* command) {
   const robot::SkillDef& def = active_->def;
   if (def.lineSteer <= 0.0) return;
   if (command->wz != 0.0) {
-    skillLineStart_ = sensors_.basePosition.head<2>();
-    skillLineAlong_ = robot::groundHeading(sensors_);
-    lineSteerError_ = 0.0;
+    restartSkillLine();
     return;
   }
   if (!moving || restWaitTicks_ >= 0) return;
   robot::SkillCommand line;
   robot::lineIntoCommand(sensors_, skillLineStart_, skillLineAlong_, &line);
   command->wz = robot::steerTowardLine(def.commands, def.lineSteer, line, &lineSteerError_);
+}
+
+void Session::restartSkillLine() {
+  skillLineStart_ = sensors_.basePosition.head<2>();
+  skillLineAlong_ = robot::groundHeading(sensors_);
+  lineSteerError_ = 0.0;
 }
 
 void Session::switchTo(const SkillRuntime* next) {
@@ -309,9 +313,7 @@ void Session::switchTo(const SkillRuntime* next) {
   // robot 0.66 m off the stairs' line turned 1.6 rad back toward it and fell; taking the heading of the moment
   // instead, the run took over the walk's lean back to its line, 0.19 rad, and ran into levels/mario's wall)
   lineStart_ = sensors_.basePosition.head<2>();
-  skillLineStart_ = lineStart_;  // a line-keeping skill (the crawl) keeps to the one it begins on, as it trained
-  skillLineAlong_ = robot::groundHeading(sensors_);
-  lineSteerError_ = 0.0;
+  restartSkillLine();  // a line-keeping skill (the crawl) keeps to the one it begins on, as it trained
   // the keys drive the new skill's command ranges (W to its top speed, and so on)
   const robot::CommandDef& r = next->def.commands;
   engine::CommandLimits limits = input_.limits();

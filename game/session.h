@@ -144,6 +144,8 @@ class Session {
   void switchTo(const SkillRuntime* next);
   void holdHeading(robot::SkillCommand* command);
   void steerToLine(bool moving, robot::SkillCommand* command);
+  /// The skill's own line from where the robot is, the way it faces (groundHeading), its averaged error zeroed.
+  void restartSkillLine();
   void respawn(double x);
   /// The default pose with every joint jittered by kInitialJitter from the seed's generator (the start, a respawn).
   robot::JointArray jitteredStandingPose();

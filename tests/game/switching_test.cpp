@@ -399,11 +399,11 @@ TEST(Session, ASkillFromTheDefaultPoseAskedForAtTheSpawnWaitsAHopsTime) {
 }
 
 // a crawl that trained steered back toward its line ([training] line_steer) is steered so in play while W is held
-// and no turn key is (the shipped walk and prone, then the crawl's prior alone): each tick's yaw-rate command is the training's law, wz = -k x (heading off the line + 0.5 x
-// offset across it) averaged over a second, from the line the crawl began on; with line_steer 0 it stays 0
+// and no turn key is (the shipped walk and prone, then the crawl's prior alone): each tick's yaw-rate command is the
+// training's law, wz = -k x (heading off the line + 0.5 x offset across it) averaged over a second, from the line
+// the crawl began on; with line_steer 0 it stays 0
 TEST(Session, ACrawlThatTrainedSteeredIsSteeredBackToItsLineInPlay) {
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
-  const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
   auto walk = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(kSource + "/assets/skills/walk.onnx"));
   auto prone = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(kSource + "/assets/skills/prone.onnx"));
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
