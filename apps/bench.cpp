@@ -31,12 +31,12 @@ double timeStanding(const robot::RobotModel& model, int substeps) {
   robot::Robot robot(model, world, 0, 0, 0);
   for (int i = 0; i < 500; ++i) {  // settle onto the ground first
     robot.applyPd(world);
-    world.step(game::kSubstepSeconds);
+    world.step(robot::kSubstepSeconds);
   }
   const auto t = Clock::now();
   for (int i = 0; i < substeps; ++i) {
     robot.applyPd(world);
-    world.step(game::kSubstepSeconds);
+    world.step(robot::kSubstepSeconds);
   }
   return since(t);
 }
@@ -47,7 +47,7 @@ int runBench(const BenchOptions& o) {
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   // --autopilot's level and skills, loaded before the timings so that a missing file stops it at once
   const levels::Level mario = o.autopilotSeeds > 0 ? levels::loadLevel("levels/mario") : levels::Level{};
-  const game::SkillSet skills = o.autopilotSeeds > 0 ? loadSkills(model) : game::SkillSet{};
+  const robot::SkillSet skills = o.autopilotSeeds > 0 ? loadSkills(model) : robot::SkillSet{};
   std::ostringstream csv;
   csv << "metric,value,unit\n";
   auto report = [&](const char* metric, double value, const char* unit, const char* note) {
@@ -57,12 +57,12 @@ int runBench(const BenchOptions& o) {
   std::printf("treelearn bench (%u hardware threads)\n", std::thread::hardware_concurrency());
 
   // physics: one world on one core, then two worlds on two threads
-  const int substeps = int(o.seconds / game::kSubstepSeconds);
+  const int substeps = int(o.seconds / robot::kSubstepSeconds);
   const double one = timeStanding(model, substeps);
   const double usPerStep = one / substeps * 1e6;
   report("physics_us_per_substep_1thread", usPerStep, "us", "(target <= 70; MuJoCo ~25 on a comparable model)");
   report("physics_ratio_to_mujoco", usPerStep / 25.0, "x", "(MuJoCo 2.2.2 figure from research/feasibility.md)");
-  report("control_ticks_per_s_1thread", substeps / game::kSubsteps / one, "ticks/s", "(0.01 s ticks, 5 substeps each)");
+  report("control_ticks_per_s_1thread", substeps / robot::kSubsteps / one, "ticks/s", "(0.01 s ticks, 5 substeps each)");
   double two[2] = {0, 0};
   {
     std::thread a([&] { two[0] = timeStanding(model, substeps); });
@@ -72,7 +72,7 @@ int runBench(const BenchOptions& o) {
   }
   const double aggregate = 2.0 * substeps / std::max(two[0], two[1]);
   report("physics_us_per_substep_2threads", 1e6 / aggregate, "us", "(aggregate of two worlds on two threads)");
-  report("control_ticks_per_s_2threads", aggregate / game::kSubsteps, "ticks/s", "");
+  report("control_ticks_per_s_2threads", aggregate / robot::kSubsteps, "ticks/s", "");
 
   // rendering: the flat level's robot scene at 640x360
   levels::Level flat = levels::parseLevel("name = \"bench\"\n", "bench.toml");

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "ai/ppo/ppo.h"
-#include "game/skill_set.h"
+#include "robot/skill_runtime.h"
 #include "robot/skill_tree.h"
 
 namespace apps {
@@ -77,7 +77,7 @@ int runSwitchEval(const SwitchEvalOptions& options);
 
 /// Every skill of the tree whose ONNX model exists, loaded once (models checked against their tree entries);
 /// the set's hash covers the tree file and the models.
-game::SkillSet loadSkills(const robot::RobotModel& model);
+robot::SkillSet loadSkills(const robot::RobotModel& model);
 
 int runTrain(const TrainOptions& options);
 /// `treelearn tree`: the skill tree with parents, keys, model hashes and each shipped model's recorded card.

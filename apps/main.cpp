@@ -151,7 +151,7 @@ int cmdPlay(const PlayArgs& a) {
   const levels::Level level = levels::loadLevel(a.level);
   for (const std::string* f : {&a.record, &a.summary, &a.log, &a.out.videoPath}) makeParentDirectory(*f);
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
-  const game::SkillSet skills = apps::loadSkills(model);
+  const robot::SkillSet skills = apps::loadSkills(model);
   if (a.autopilot && !level.isGame())
     throw engine::Error(level.path + ": --autopilot plays game levels (a level with [rules] and a goal)");
   if (a.autopilot && !a.keys.empty()) throw engine::Error("--autopilot and --keys exclude each other");
@@ -189,7 +189,7 @@ int cmdPlay(const PlayArgs& a) {
               : r.outcome == game::Outcome::Lost ? "lost (" + r.outcomeReason + ")"
                                                  : std::string("not finished (the run ended first)");
   std::string summary = summaryText(level, r, options.seed, outcome.c_str());
-  for (const game::MissingSkill& m : skills.missing)  // a key the script or autopilot pressed that had no model
+  for (const robot::MissingSkill& m : skills.missing)  // a key the script or autopilot pressed that had no model
     if (r.telemetry.skillsRequested.count(m.key))
       summary += "missing    key " + std::to_string(m.key) + " (" + m.name + "): no model at " + m.path +
                  ", so the key did nothing\n";
@@ -261,7 +261,7 @@ int cmdReplay(const ReplayArgs& a) {
   if (model.hash != replay.robotHash)
     throw engine::Error(a.file + ": the robot model has changed since recording (hash " + engine::toHex(model.hash) +
                         ", replay has " + engine::toHex(replay.robotHash) + ")");
-  const game::SkillSet skills = apps::loadSkills(model);
+  const robot::SkillSet skills = apps::loadSkills(model);
   if (replay.skillsHash != skills.hash)
     throw engine::Error(a.file + ": the skill models have changed since recording (hash " + engine::toHex(skills.hash) +
                         ", replay has " + engine::toHex(replay.skillsHash) + "); record it again");

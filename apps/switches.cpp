@@ -21,8 +21,8 @@
 
 namespace apps {
 
-game::SkillSet loadSkills(const robot::RobotModel& model) {
-  game::SkillSet set;
+robot::SkillSet loadSkills(const robot::RobotModel& model) {
+  robot::SkillSet set;
   const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
   engine::Hasher h;
   const std::string treeText = engine::readFile(tree.path);
@@ -81,9 +81,9 @@ struct TrialPlan {
   int64_t secondTick = 0, switchTick = 0;
 };
 
-TrialPlan planTrial(const game::SkillSet& skills, const game::SkillRuntime& from, std::mt19937_64& rng) {
+TrialPlan planTrial(const robot::SkillSet& skills, const robot::Skill& from, std::mt19937_64& rng) {
   TrialPlan p;
-  const game::SkillRuntime* parent = from.def.parent.empty() ? nullptr : skills.byName(from.def.parent);
+  const robot::Skill* parent = from.def.parent.empty() ? nullptr : skills.byName(from.def.parent);
   const bool entersLying = parent && robot::isGroundSkill(parent->def);
   p.firstKey = char('0' + skills.requestKey(entersLying ? *parent : from));
   if (entersLying) {
@@ -96,8 +96,8 @@ TrialPlan planTrial(const game::SkillSet& skills, const game::SkillRuntime& from
   return p;
 }
 
-Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const game::SkillSet& skills,
-               const game::SkillRuntime& from, const game::SkillRuntime& to, uint64_t seed) {
+Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const robot::SkillSet& skills,
+               const robot::Skill& from, const robot::Skill& to, uint64_t seed) {
   std::mt19937_64 rng(seed);
   const std::vector<char> keysA = movementKeys(from.def.commands), keysB = movementKeys(to.def.commands);
   const char keyA = keysA[size_t(unit(rng) * double(keysA.size()))];
@@ -163,19 +163,19 @@ Trial runTrial(const levels::Level& level, const robot::RobotModel& model, const
 
 int runSwitchEval(const SwitchEvalOptions& o) {
   const robot::RobotModel model = robot::loadRobotModel(engine::projectFile("assets/robots/g1_23dof.toml"));
-  const game::SkillSet skills = loadSkills(model);
+  const robot::SkillSet skills = loadSkills(model);
   const levels::Level level = levels::loadLevel(engine::projectFile("levels/flat"));
-  std::vector<std::pair<const game::SkillRuntime*, const game::SkillRuntime*>> pairs;
+  std::vector<std::pair<const robot::Skill*, const robot::Skill*>> pairs;
   // each edge down the tree (parent -> child) and each way up (child -> its parent, or -> its `up` skill: prone
   // goes up through standup), for the skills with models
-  auto add = [&](const game::SkillRuntime* a, const game::SkillRuntime* b) {
+  auto add = [&](const robot::Skill* a, const robot::Skill* b) {
     if (a && b && std::find(pairs.begin(), pairs.end(), std::make_pair(a, b)) == pairs.end()) pairs.push_back({a, b});
   };
   std::vector<std::string> untried;
-  for (const game::SkillRuntime& child : skills.skills)
-    if (const game::SkillRuntime* parent = child.def.parent.empty() ? nullptr : skills.byName(child.def.parent)) {
+  for (const robot::Skill& child : skills.skills)
+    if (const robot::Skill* parent = child.def.parent.empty() ? nullptr : skills.byName(child.def.parent)) {
       add(parent, &child);
-      const game::SkillRuntime* up = skills.upFrom(child);
+      const robot::Skill* up = skills.upFrom(child);
       // a ground skill hands a lying robot only to another ground skill or to its stand-up skill
       if (!child.def.up.empty() && !up)
         untried.push_back(child.def.name + " -> " + child.def.up + ": no model for " + child.def.up + " yet");

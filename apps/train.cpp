@@ -418,7 +418,7 @@ int runEval(const EvalOptions& o) {
     if (def.kind == robot::CardDef::Kind::Stairs && def.steer > 0) {  // the player's steering, as the crawl card says it
       char b[160];
       std::snprintf(b, sizeof b, ", steered square to the stairs as play's heading hold does (wz = -%g x the heading off them, within %g rad/s)",
-                    def.steer, game::headingHoldLimit(l.skill->commands));
+                    def.steer, robot::headingHoldLimit(l.skill->commands));
       leadIn += b;
     }
     std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s%s with pushes %s, commands every %g s%s (model %s, hash %s)\n",

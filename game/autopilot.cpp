@@ -94,16 +94,28 @@ Cues senseCues(const Session& s) {
       c.ballY = ball.y();
     }
     const auto& ev = course->events();
-    c.boxJustHit = !ev.empty() && ev.back().tick + 1 >= s.tick() && ev.back().what.find("question box") != std::string::npos;
+    c.boxJustHit = !ev.empty() && ev.back().tick + 1 >= s.tick() && ev.back().kind == game::CourseEventKind::BoxHit;
   }
   c.y = p.y();
   c.yaw = s.sensors().yaw;
   c.speed = (s.sensors().baseRotation * s.sensors().linearVelocity).head<2>().norm();
   c.commandVx = s.command().vx, c.commandVy = s.command().vy, c.commandWz = s.command().wz;
   c.respawns = int(s.telemetry().respawns.size());
-  c.canJump = s.hasSkill(4);
+  c.canJump = s.skills() && s.skills()->byName("jump");
   c.skill = s.activeSkillName();
   return c;
+}
+
+SkillKeys skillKeys(const robot::SkillSet& skills) {
+  auto key = [&](const char* name) -> char {
+    const robot::Skill* s = skills.byName(name);
+    const int k = s ? skills.requestKey(*s) : -1;
+    return k >= 0 ? char('0' + k) : 0;
+  };
+  SkillKeys k;
+  k.walk = key("walk"), k.run = key("run"), k.stairs = key("stairs"), k.jump = key("jump");
+  k.oneLeg = key("one_leg"), k.kick = key("kick"), k.prone = key("prone"), k.crawl = key("crawl");
+  return k;
 }
 
 const char* Autopilot::modeName(Mode m) {
@@ -237,13 +249,13 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
   if (!started_) {
     started_ = true;
     respawnsSeen_ = c.respawns;
-    enter(tick, Mode::Walk, '0', true, &out);
+    enter(tick, Mode::Walk, keys_.walk, true, &out);
     return out;
   }
   if (c.respawns > respawnsSeen_) {  // put back at a checkpoint: start over from there, walking
     respawnsSeen_ = c.respawns;
     releaseAll(tick, &out);
-    enter(tick, Mode::Walk, '0', true, &out);
+    enter(tick, Mode::Walk, keys_.walk, true, &out);
     return out;
   }
   const int64_t in = tick - since_;
@@ -257,7 +269,7 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
         backOffBall(tick, c, &out);
       } else if (c.boxOverhead && c.canJump && std::abs(c.x - jumpedAtX_) > 1.0) {
         jumpedAtX_ = c.x, flew_ = false;
-        enter(tick, Mode::Jump, '4', false, &out);
+        enter(tick, Mode::Jump, keys_.jump, false, &out);
       } else if (c.ceilingAhead < kCeilingStart) {  // stop square to the course a little left of its middle, then lie down
         enter(tick, Mode::Align, 0, false, &out);
         alignY_ = kProneY, alignYTol_ = 0.08, alignYawTol_ = 0.05, afterAlign_ = Mode::Prone;
@@ -265,9 +277,9 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
         enter(tick, Mode::Stairs, 0, false, &out);
         stairsStarted_ = false, climbed_ = false;
       } else if (mode_ == Mode::Walk && ghostClose && c.stepAhead > kStairsSlow) {
-        enter(tick, Mode::Run, '1', true, &out);
+        enter(tick, Mode::Run, keys_.run, true, &out);
       } else if (mode_ == Mode::Run && (c.ghost < 0 || c.stepAhead < kStairsSlow)) {
-        enter(tick, Mode::Walk, '0', true, &out);
+        enter(tick, Mode::Walk, keys_.walk, true, &out);
       } else if (mode_ == Mode::Walk && !ghostClose && c.stepAhead > 1.0 && c.ceilingAhead > 2.5 && !c.boxOverhead &&
                  (std::abs(c.y) > kOffLine || std::abs(wrap(c.yaw)) > kOffHeading)) {
         enter(tick, Mode::Align, 0, false, &out);
@@ -276,7 +288,7 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       break;
     case Mode::Align:
       if (ghostClose && afterAlign_ == Mode::Walk) {  // a ghost came while it stood: run
-        enter(tick, Mode::Run, '1', true, &out);
+        enter(tick, Mode::Run, keys_.run, true, &out);
       } else if (align(tick, c, &out) || in > kAlignTimeout) {
         if (afterAlign_ == Mode::Approach) {
           enter(tick, Mode::Approach, 0, false, &out);
@@ -284,7 +296,7 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
         } else if (afterAlign_ == Mode::Dribble) {
           enter(tick, Mode::Dribble, 0, true, &out);
         } else if (afterAlign_ == Mode::Prone) {
-          enter(tick, Mode::Prone, '7', false, &out);
+          enter(tick, Mode::Prone, keys_.prone, false, &out);
         } else if (afterAlign_ == Mode::BackUp) {
           enter(tick, Mode::BackUp, 0, false, &out);
           hold(tick, 'S', true, &out);
@@ -307,7 +319,7 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       if (c.ballAhead <= kBallKick - 0.15 && held_.empty()) {
         backOffBall(tick, c, &out);
       } else if (approach(tick, c, &out) || in > kApproachTimeout) {
-        if (atKickSpot(c, kBallYawTol)) enter(tick, Mode::Balance, '5', false, &out);
+        if (atKickSpot(c, kBallYawTol)) enter(tick, Mode::Balance, keys_.oneLeg, false, &out);
         else lineUpWithBall(tick, c, &out);
       }
       break;
@@ -315,7 +327,7 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       if (!stairsStarted_) {  // at rest first, then the stairs skill and W
         if (c.speed < kRestSpeed && c.commandVx == 0 && in > kSettleTicks) {
           stairsStarted_ = true;
-          enter(tick, Mode::Stairs, '2', true, &out);
+          enter(tick, Mode::Stairs, keys_.stairs, true, &out);
         }
         break;
       }
@@ -325,7 +337,7 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
         if (flatSince_ < 0) flatSince_ = c.x;
         if (c.x - flatSince_ > 0.5) {
           flatSince_ = -1;
-          enter(tick, Mode::Walk, '0', true, &out);
+          enter(tick, Mode::Walk, keys_.walk, true, &out);
         }
       } else {
         flatSince_ = -1;
@@ -335,12 +347,12 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       // lying, and for as long as the crawl's card lets prone lie first (crawling off a fresh landing rolled it over)
       if ((c.pelvisHeight < kProneHeight && in > kProneLie) || in > kProneTimeout) {
         ceilingEndX_ = 1e9;  // not under the ceiling yet: it lies down before the tunnel
-        enter(tick, Mode::Crawl, '9', true, &out);
+        enter(tick, Mode::Crawl, keys_.crawl, true, &out);
       }
       break;
     case Mode::Crawl:
       if (c.underCeiling) ceilingEndX_ = c.x;
-      else if (c.x - ceilingEndX_ > kCeilingClear) enter(tick, Mode::StandUp, '0', false, &out);  // routed via standup
+      else if (c.x - ceilingEndX_ > kCeilingClear) enter(tick, Mode::StandUp, keys_.walk, false, &out);  // routed via standup
       break;
     case Mode::StandUp:
       if ((c.pelvisHeight > kStoodHeight && in > 100) || in > kStandTimeout) enter(tick, Mode::Walk, 0, true, &out);
@@ -351,19 +363,19 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       if (c.pelvisHeight > kFlightHeight) flew_ = true;
       if (c.boxJustHit || flew_ || in > kJumpTimeout) {
         // walk out from under the box (the release floats down in front of it)
-        enter(tick, Mode::Walk, '0', true, &out);
+        enter(tick, Mode::Walk, keys_.walk, true, &out);
       }
       break;
     case Mode::Balance:
       if (c.skill != "one_leg") standSince_ = -1;
       else if (standSince_ < 0) standSince_ = tick;
       if ((standSince_ >= 0 && tick - standSince_ >= kBalanceTicks) || in > kBalanceTimeout) {
-        if (atKickSpot(c, kKickYawTol)) enter(tick, Mode::Kick, '6', false, &out);
-        else enter(tick, Mode::Walk, '0', false, &out);  // the walk's rules line it up again (or back up)
+        if (atKickSpot(c, kKickYawTol)) enter(tick, Mode::Kick, keys_.kick, false, &out);
+        else enter(tick, Mode::Walk, keys_.walk, false, &out);  // the walk's rules line it up again (or back up)
       }
       break;
     case Mode::Kick:
-      if (in > kKickTicks) enter(tick, Mode::Recover, '0', false, &out);
+      if (in > kKickTicks) enter(tick, Mode::Recover, keys_.walk, false, &out);
       break;
     case Mode::Recover:
       // the ball went on (or not): walk after it

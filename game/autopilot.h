@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "engine/input/key_script.h"
+#include "robot/skill_runtime.h"
 
 namespace game {
 
@@ -47,7 +48,7 @@ struct Cues {
   double speed = 0;           ///< horizontal pelvis speed [m/s]
   double commandVx = 0, commandVy = 0, commandWz = 0;  ///< the keys' ramped command now
   int respawns = 0;           ///< times the robot has been put back at a checkpoint so far
-  bool canJump = true;        ///< the jump key (4) has a loaded model
+  bool canJump = true;        ///< the jump has a loaded model
   double ballY = 0;           ///< ball centre y [m]
   std::string skill;          ///< the skill in control, as the HUD names it ("stand": the standing controller)
 };
@@ -55,8 +56,17 @@ struct Cues {
 /// Reads the cues from a running session.
 Cues senseCues(const Session& session);
 
+/// The keys that request the skills the autopilot plays with, found in the tree by name ('\0': not loaded). A keyless
+/// skill is requested by the key of the first skill up from it that has one (robot::SkillSet::requestKey).
+struct SkillKeys {
+  char walk = 0, run = 0, stairs = 0, jump = 0, oneLeg = 0, kick = 0, prone = 0, crawl = 0;
+};
+SkillKeys skillKeys(const robot::SkillSet& skills);
+
 class Autopilot {
  public:
+  explicit Autopilot(const SkillKeys& keys) : keys_(keys) {}
+
   enum class Mode { Walk, Run, Stairs, Prone, Crawl, StandUp, Jump, Align, Approach, Balance, Kick, Recover, BackUp, Dribble };
 
   /// The key events for this tick, given what the robot perceives.
@@ -68,6 +78,7 @@ class Autopilot {
  private:
   void backOffBall(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>* out);
   void enter(int64_t tick, Mode m, char skillKey, bool forward, std::vector<engine::KeyEvent>* out);
+  SkillKeys keys_;
   void hold(int64_t tick, char key, bool down, std::vector<engine::KeyEvent>* out);
   void releaseAll(int64_t tick, std::vector<engine::KeyEvent>* out);
   /// Align mode: stop, turn to yaw 0, step sideways to alignY_; true once within the tolerances.

@@ -53,7 +53,8 @@ void Course::finish(int64_t tick, Outcome outcome, const std::string& reason) {
   if (outcome_ != Outcome::Playing) return;
   outcome_ = outcome;
   reason_ = reason;
-  log(tick, (outcome == Outcome::Won ? "won: " : "lost: ") + reason);
+  log(tick, outcome == Outcome::Won ? CourseEventKind::Won : CourseEventKind::Lost,
+      (outcome == Outcome::Won ? "won: " : "lost: ") + reason);
 }
 
 void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vector<BodyPoint>& body,
@@ -66,7 +67,7 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
   for (double cp : rules_.checkpoints)
     if (pelvis.x() >= cp && cp > checkpointX_) {
       checkpointX_ = cp;
-      log(tick, "checkpoint at x = " + std::to_string(cp).substr(0, 5));
+      log(tick, CourseEventKind::Checkpoint, "checkpoint at x = " + std::to_string(cp).substr(0, 5));
     }
 
   // question boxes: a head or hand touching the underside while the robot moves up
@@ -87,7 +88,7 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
         item.from = Eigen::Vector3d(b.def.centre.x(), b.def.centre.y(), b.def.centre.z() + half.z() + 0.15);
         item.position = item.from;
         items_.push_back(item);
-        log(tick, std::string("question box at x = ") + std::to_string(b.def.centre.x()).substr(0, 5) + " hit: a " +
+        log(tick, CourseEventKind::BoxHit, std::string("question box at x = ") + std::to_string(b.def.centre.x()).substr(0, 5) + " hit: a " +
                       (b.def.gift ? "gift" : "coin") + " pops out");
         break;
       }
@@ -110,7 +111,7 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
         c.collected = true;
         (c.gift ? gifts_ : coins_) += 1;
         score_ += c.gift ? rules_.giftValue : rules_.coinValue;
-        log(tick, std::string(c.gift ? "gift" : "coin") + " collected (score " + std::to_string(score_) + ")");
+        log(tick, CourseEventKind::Collected, std::string(c.gift ? "gift" : "coin") + " collected (score " + std::to_string(score_) + ")");
         break;
       }
   }
@@ -125,7 +126,7 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
       const Eigen::Vector2d start(pelvis.x() - g.def.behind, g.def.height);
       if (g.body < 0) g.body = plane.addKinematicCircle(start, g.def.radius, -1);
       else plane.setPosition(g.body, start);
-      log(tick, "a ghost appears " + std::to_string(g.def.behind).substr(0, 4) + " m behind");
+      log(tick, CourseEventKind::GhostAppears, "a ghost appears " + std::to_string(g.def.behind).substr(0, 4) + " m behind");
     }
     if (g.park) {  // asleep again after a respawn: still, and out of the way of the autopilot's ray casts
       g.park = false;
@@ -136,7 +137,7 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
     if (pelvis.x() >= g.def.vanishX) {
       g.gone = true;
       plane.setVelocity(g.body, Eigen::Vector2d::Zero());
-      log(tick, "the ghost gives up");
+      log(tick, CourseEventKind::GhostGivesUp, "the ghost gives up");
       continue;
     }
     const Eigen::Vector2d at = plane.position(g.body);
@@ -173,7 +174,7 @@ bool Course::onFall(int64_t tick) {
     return false;
   }
   score_ -= rules_.fallPenalty;
-  log(tick, "fell: back to x = " + std::to_string(checkpointX_).substr(0, 5) + ", -" + std::to_string(rules_.fallPenalty));
+  log(tick, CourseEventKind::Fell, "fell: back to x = " + std::to_string(checkpointX_).substr(0, 5) + ", -" + std::to_string(rules_.fallPenalty));
   // a ghost that woke beyond the checkpoint goes back to sleep: it wakes again (behind, at its first speed) when the
   // robot passes its appear_x again (before, a respawn at the start put the robot under the chasing ghost)
   for (Ghost& g : ghosts_)

@@ -27,9 +27,13 @@ struct BodyPoint {
 
 enum class Outcome { Playing, Won, Lost };
 
-/// Something that happened, for the summary and the log.
+/// What kind of thing happened on the course.
+enum class CourseEventKind { Won, Lost, Checkpoint, BoxHit, Collected, GhostAppears, GhostGivesUp, Fell };
+
+/// Something that happened: its kind (for code that reacts to it) and its text (for the summary and the log).
 struct CourseEvent {
   int64_t tick = 0;
+  CourseEventKind kind = CourseEventKind::Checkpoint;
   std::string what;
 };
 
@@ -89,7 +93,7 @@ class Course {
   };
 
   void finish(int64_t tick, Outcome outcome, const std::string& reason);
-  void log(int64_t tick, const std::string& what) { events_.push_back({tick, what}); }
+  void log(int64_t tick, CourseEventKind kind, const std::string& what) { events_.push_back({tick, kind, what}); }
 
   levels::RulesDef rules_;
   double timeLimit_ = 0;

@@ -18,7 +18,7 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
   size_t nextExpected = 0;
 
   if (options.frameEvery > 0 && options.onFrame) options.onFrame(session.snapshot(options.camera));
-  Autopilot autopilot;
+  Autopilot autopilot(options.skills ? skillKeys(*options.skills) : SkillKeys{});
   std::vector<double> comX;  // per tick, for the switch reports
   while (session.tick() < options.ticks) {
     std::vector<engine::KeyEvent> events = timeline.eventsAt(session.tick());

@@ -24,7 +24,7 @@ struct PlayOptions {
   engine::CameraMode camera = engine::CameraMode::Side;
   std::function<void(const engine::SceneSnapshot&)> onFrame;
   bool stopOnFall = false;                  ///< end the run at the first fall
-  const SkillSet* skills = nullptr;         ///< learned skills, or none
+  const robot::SkillSet* skills = nullptr;         ///< learned skills, or none
   bool autopilot = false;                   ///< the autopilot presses the keys (after any scripted events)
 };
 

@@ -14,6 +14,7 @@ namespace {
 
 constexpr uint32_t kRobotColour = 0xe06a1aff;  // orange, so tests can find the robot in a frame
 constexpr double kInitialJitter = 0.01;        // +- rad on every joint, from the seed
+const robot::SkillSet kNoSkills;               // a session without learned skills: the standing controller
 
 // a double in [0, 1) from 53 random bits (portable, unlike std::uniform_real_distribution)
 double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
@@ -90,26 +91,26 @@ void Session::respawn(double x) {
   // (the same pose every time replayed the same fall forever: levels/mario's autopilot fell 10 times in a row at
   // the tunnel, tick for tick alike), and the run stays a function of the seed and the keys
   robot_->teleport(physics_, base, jitteredStandingPose());
-  action_.fill(0.0f);
-  phase_ = robot::PhaseClock{};
   sensors_ = robot_->sense(physics_);
   input_.stopMotion();
   telemetry_.respawns.push_back(tick_);
-  const SkillRuntime* root = nullptr;
-  if (skills_)
-    for (const SkillRuntime& s : skills_->skills)
-      if (s.def.parent.empty()) root = &s;
-  if (active_ && root && active_ != root) {
-    switchTo(root);
+  const robot::Skill* from = runtime_.active;
+  const robot::Skill* root = skills_ ? skills_->root() : nullptr;
+  // a fresh start: the action and clock from zero, no prior to fade out, no switch waiting
+  runtime_.action.fill(0.0f);
+  runtime_.phase = robot::PhaseClock{};
+  if (from && root && from != root) {
+    robot::enterSkill(&runtime_, *root, sensors_, tick_);
+    onSwitch(from, *root);
     telemetry_.switches.back().tick = tick_ + 1;  // the root's first control step is the next tick's
     telemetry_.switches.back().respawn = true;
   }
   stuckTicks_ = 0;
-  drift_ = Eigen::Vector2d::Zero();
-  fadingFrom_ = nullptr;  // a fresh start: no prior to fade out
-  fadeTicks_ = 0;
-  restWaitTicks_ = -1;
-  postureWaitTicks_ = 0;
+  runtime_.drift = Eigen::Vector2d::Zero();
+  runtime_.fadingFrom = nullptr;
+  runtime_.fadeTicks = 0;
+  runtime_.restWaitTicks = -1;
+  runtime_.postureWaitTicks = 0;
 }
 
 double Session::seconds() const { return double(tick_) * engine::kTickSeconds; }
@@ -131,191 +132,39 @@ void Session::inputSystem(const std::vector<engine::KeyEvent>& events) {
 }
 
 
-namespace {
-// the keys' velocity command clamped into a skill's command ranges (and to 0 where a range excludes it): the keys
-// ramp within the active skill's ranges (setLimits), and the clamp covers the ramp's way there after a switch
-robot::SkillCommand keysWithin(const engine::CommandState& c, const robot::CommandDef& range) {
-  robot::SkillCommand command;
-  command.vx = std::clamp(c.vx, std::min(range.vx.lo, 0.0), std::max(range.vx.hi, 0.0));
-  command.vy = std::clamp(c.vy, std::min(range.vy.lo, 0.0), std::max(range.vy.hi, 0.0));
-  command.wz = std::clamp(c.wz, std::min(range.wz.lo, 0.0), std::max(range.wz.hi, 0.0));
-  return command;
-}
-}  // namespace
-
-// the requested skill drives the robot if its model is loaded; otherwise the standing controller does.
-// A request for a skill that is not a parent or child of the active one is routed along the tree, one switch
-// at a time, each once the robot is upright and the previous hop has run kMinHopTicks; into a still skill or a
-// slower one (run -> walk) the active skill first brakes (robot::switchWaits). A switch takes effect
-// in the tick it is made: the new network reads the same observation, the filtered action carries over (the
-// layouts are shared, so the joint targets do not jump) and the gait phase keeps its fraction of the cycle.
+// the skill runtime: the request routed along the tree (robot::route), the keys' command shaped for the active skill
+// (robot::shapeCommand), the control step (robot::controlStep); without a skill the standing controller holds the pose
 void Session::controlSystem() {
-  const int key = input_.state().skillRequest;
-  const SkillRuntime* wanted = skills_ && key >= 0 ? skills_->byKey(key) : nullptr;
-  if (wanted && wanted != active_) {
-    const SkillRuntime* next = active_ ? skills_->nextHop(*active_, *wanted) : wanted;
-    const bool direct = next == wanted;
-    // upright skills switch when the robot is upright; a ground skill (lying down) switches as it lies, but only
-    // to another ground skill or to its way up (a stand-up skill): it cannot hand a lying robot to the walk
-    const bool ground = active_ && robot::isGroundSkill(active_->def);
-    const bool handsOver = !active_ || !next || robot::mayHandOver(active_->def, next->def);
-    // (and a stand-up hands over to the walk once the robot stands: robot::postureAllowsSwitch)
-    // a hop's time: after a routed hop, and from the standing controller into a skill that starts from the default
-    // pose (the jump, the kick): the jump asked for at the spawn's first tick fell at its second landing in 20 of 20
-    // seeds on levels/flat, asked for 0.5 s in, in 2 of 20 (7 s of jumping)
-    const bool hopWait = !direct || (!active_ && robot::startsFromDefaultPose(next->def));
-    bool ready = handsOver && (ground || sensors_.tilt < kSwitchMaxTilt) && (!hopWait || tick_ - activeSince_ >= kMinHopTicks) &&
-                 (!active_ || !next || robot::postureAllowsSwitch(active_->def, next->def, sensors_, postureWaitTicks_)) &&
-                 (!active_ || robot::cycleAllowsSwitch(active_->def, wanted->def, phase_, drift_.norm(), postureWaitTicks_));
-    const bool inPhase = !active_ || !next || robot::phaseAllowsSwitch(active_->def, next->def, phase_);
-    // a skill that starts from the default pose (the jump, the kick) waits for a squat or a lift to come back first
-    if (next && active_ && robot::startsFromDefaultPose(next->def) && input_.state().amplitude > 0) {
-      input_.lowerAmplitude();
-      ready = false;
-    }
-    // into a still skill from rest, into a slower one at its top speed: the active skill brakes first
-    if (next && ready && active_ && robot::switchWaits(active_->def, next->def)) {
-      // the keys' command as the active skill gets it: right after a routed hop (run -> walk -> prone, W held) the
-      // keys still give the run's speed
-      const robot::SkillCommand keysCommand = keysWithin(input_.state(), active_->def.commands);
-      if (restWaitTicks_ < 0) {  // start braking from the command the keys give now
-        restWaitTicks_ = 0;
-        brake_ = keysCommand;
-      }
-      // on the way to a still skill (run -> walk -> prone) every hop brakes toward rest, not only the last: the
-      // walk taking over a run at its top speed and braking at once fell in 3 of 4 seeds with W held
-      const robot::SkillCommand wantedCommand = robot::isStillSkill(wanted->def) ? robot::SkillCommand{} : keysCommand;
-      brakeTarget_ = robot::switchBrakeTarget(active_->def, next->def, wantedCommand);
-      ready = robot::readyForSwitch(active_->def, next->def, brakeTarget_, brake_, sensors_, drift_.norm()) ||
-              restWaitTicks_ >= robot::maxSwitchWaitTicks(next->def);
-    }
-    if (next && ready && inPhase) {  // (a skill that brakes first reaches its phase window within a cycle)
-      switchTo(next);
-      restWaitTicks_ = -1;
-      postureWaitTicks_ = 0;
-    } else {
-      ++postureWaitTicks_;
-    }
-  } else {
-    restWaitTicks_ = -1;  // the request went away (or was reached)
-    postureWaitTicks_ = 0;
-  }
-  if (!active_) {
+  const engine::CommandState& c = input_.state();
+  const engine::CommandLimits& keys = input_.limits();
+  robot::SwitchRequest request;
+  request.wanted = skills_ && c.skillRequest >= 0 ? skills_->byKey(c.skillRequest) : nullptr;
+  request.vx = c.vx, request.vy = c.vy, request.wz = c.wz, request.amplitude = c.amplitude;
+  request.vRate = keys.vRate, request.wzRate = keys.wzRate;
+  const robot::Skill* from = runtime_.active;
+  const robot::RouteResult routed = robot::route(skills_ ? *skills_ : kNoSkills, &runtime_, sensors_, request, tick_);
+  if (routed.lowerAmplitude) input_.lowerAmplitude();
+  if (routed.switchedTo) onSwitch(from, *routed.switchedTo);
+  if (!runtime_.active) {
     robot_->setCommand(robot::Robot::standingCommand(model_));
     return;
   }
-  telemetry_.skillsUsed.insert(active_->def.name);
-  const engine::CommandState& c = input_.state();
-  robot::SkillCommand command = keysWithin(c, active_->def.commands);
-  command.amplitude = c.amplitude;
-  holdHeading(&command);
-  if (restWaitTicks_ >= 0) {  // a switch waits for rest or a slower speed: brake instead of following the keys
-    const engine::CommandLimits& keys = input_.limits();
-    const robot::SkillCommand& to = brakeTarget_;
-    engine::rampVelocityCommand(to.vx, to.vy, to.wz, keys.vRate, keys.wzRate, &brake_.vx, &brake_.vy, &brake_.wz);
-    command.vx = brake_.vx, command.vy = brake_.vy, command.wz = brake_.wz;
-    ++restWaitTicks_;
-  }
-  if (active_->def.ball.enabled && course_ && course_->firstBall() >= 0) {
+  telemetry_.skillsUsed.insert(runtime_.active->def.name);
+  robot::SkillCommand command = robot::shapeCommand(&runtime_, sensors_, request);
+  if (runtime_.active->def.ball.enabled && course_ && course_->firstBall() >= 0) {
     // a ball skill sees the level's ball where training showed it its own (aux slots, heading frame)
     robot::ballIntoCommand(sensors_, physics_.ballState(course_->firstBall()).position, &command);
   }
-  if (active_->def.commands.lineCommand) robot::lineIntoCommand(sensors_, skillLineStart_, skillLineAlong_, &command);
-  if (active_->def.commands.stepCommand) robot::stepIntoCommand(sensors_, physics_, active_->def.commands.stepLookBack, &command);
-  double s, co;
-  robot::phaseSignal(phase_.tp, active_->def.prior.halfPeriodTicks, &s, &co);
-  robot::Observation o;
-  robot::buildObservation(sensors_, model_, action_, command, s, co, &o);
-  observation_ = Eigen::Map<const Eigen::VectorXf>(o.data(), robot::kObservationSize);
-  active_->policy(observation_, &policyOutput_);
-  robot::filterAction(active_->def, policyOutput_.data(), &action_);
-  // a request out of jumps in a row for a still skill waits in the cycle's closing stand rather than jump again
-  const bool waitsForStill = wanted && wanted != active_ && robot::isStillSkill(wanted->def);
-  if (!robot::holdsClosingStand(active_->def, phase_, waitsForStill)) phase_.advance(active_->def.prior, command);
   robot::PdCommand pd;
-  robot::skillPdCommand(model_, active_->def, action_, phase_, command, &pd);
-  if (fadingFrom_ && fadeTicks_ > 0) {
-    // the old prior's share fades linearly: target += w (old prior - new prior), with the policy's part unchanged
-    fadePhase_.advance(fadingFrom_->def.prior, command);
-    robot::fadePrior(model_, fadingFrom_->def, fadePhase_, active_->def, phase_, command,
-                     double(fadeTicks_) / kSwitchFadeTicks, &pd);
-    --fadeTicks_;
-  }
+  robot::controlStep(model_, model_, &runtime_, sensors_, physics_, command, robot::waitsForStill(runtime_, request.wanted),
+                     &pd);
   robot_->setCommand(pd);
 }
 
-// W / S (or the sideways keys) with no turn key: an upright skill that can turn keeps to the line the robot was on
-// when it started moving (or the turn keys were released), facing the way it faced then, as a player would steer
-// against a drift. The heading asked for leans back toward the line by atan(line_hold * offset) (the skill's
-// [commands] line_hold; 0: the heading alone), and the turn rate
-// asked for is kHeadingGain times the heading error, at most kHeadingMaxRate (and within the skill's wz range).
-void Session::holdHeading(robot::SkillCommand* command) {
-  const robot::CommandDef& range = active_->def.commands;
-  const bool moving = command->vx != 0.0 || command->vy != 0.0;
-  if (robot::isGroundSkill(active_->def)) {  // the upright hold below is not theirs
-    headingRef_ = sensors_.yaw;
-    lineStart_ = sensors_.basePosition.head<2>();
-    steerToLine(moving, command);
-    return;
-  }
-  const bool canTurn = range.wz.hi > 0.0 && range.wz.lo < 0.0;
-  const Eigen::Vector2d p = sensors_.basePosition.head<2>();
-  if (!moving || !canTurn || command->wz != 0.0 || restWaitTicks_ >= 0) {
-    headingRef_ = sensors_.yaw;
-    lineStart_ = p;
-    return;
-  }
-  const Eigen::Vector2d along(std::cos(headingRef_), std::sin(headingRef_));
-  const Eigen::Vector2d d = p - lineStart_;
-  const double offset = along.x() * d.y() - along.y() * d.x();  // left of the line > 0
-  const double wanted = headingRef_ - std::atan(range.lineHold * offset);
-  const double error = std::remainder(wanted - sensors_.yaw, 2.0 * M_PI);
-  const double limit = headingHoldLimit(range);
-  command->wz = std::clamp(kHeadingGain * error, -limit, limit);
-}
-
-// A ground skill that trained steered back toward the line it began on ([training] line_steer: the crawl) is steered
-// so in play while it moves with no turn key, by the same law as its training and its card. A turn key takes over;
-// once it is released the line starts again where the robot is, the way it faces then.
-void Session::steerToLine(bool moving, robot::SkillCommand* command) {
-  const robot::SkillDef& def = active_->def;
-  if (def.lineSteer <= 0.0) return;
-  if (command->wz != 0.0) {
-    restartSkillLine();
-    return;
-  }
-  if (!moving || restWaitTicks_ >= 0) return;
-  robot::SkillCommand line;
-  robot::lineIntoCommand(sensors_, skillLineStart_, skillLineAlong_, &line);
-  command->wz = robot::steerTowardLine(def.commands, def.lineSteer, line, &lineSteerError_);
-}
-
-void Session::restartSkillLine() {
-  skillLineStart_ = sensors_.basePosition.head<2>();
-  skillLineAlong_ = robot::groundHeading(sensors_);
-  lineSteerError_ = 0.0;
-}
-
-void Session::switchTo(const SkillRuntime* next) {
-  telemetry_.switches.push_back({tick_, active_ ? active_->def.name : "stand", next->def.name});
-  if (active_) {
-    fadePhase_ = phase_;  // the old prior goes on under its own clock while it fades out
-    robot::carryPhase(active_->def.prior, next->def.prior, &phase_);  // same fraction of the gait cycle
-  } else {
-    action_.fill(0.0f);
-    phase_ = robot::PhaseClock{};
-  }
-  fadingFrom_ = active_;
-  fadeTicks_ = active_ ? kSwitchFadeTicks : 0;
-  active_ = next;
-  activeSince_ = tick_;
-  // the new skill keeps the heading held so far, on a line through where it starts (the walk taking the stairs'
-  // robot 0.66 m off the stairs' line turned 1.6 rad back toward it and fell; taking the heading of the moment
-  // instead, the run took over the walk's lean back to its line, 0.19 rad, and ran into levels/mario's wall)
-  lineStart_ = sensors_.basePosition.head<2>();
-  restartSkillLine();  // a line-keeping skill (the crawl) keeps to the one it begins on, as it trained
+void Session::onSwitch(const robot::Skill* from, const robot::Skill& next) {
+  telemetry_.switches.push_back({tick_, from ? from->def.name : "stand", next.def.name});
   // the keys drive the new skill's command ranges (W to its top speed, and so on)
-  const robot::CommandDef& r = next->def.commands;
+  const robot::CommandDef& r = next.def.commands;
   engine::CommandLimits limits = input_.limits();
   limits.vxForward = std::max(r.vx.hi, 0.0);
   limits.vxBackward = std::min(r.vx.lo, 0.0);
@@ -324,14 +173,11 @@ void Session::switchTo(const SkillRuntime* next) {
   input_.setLimits(limits);
 }
 
-std::string Session::activeSkillName() const { return active_ ? active_->def.name : "stand"; }
+std::string Session::activeSkillName() const { return runtime_.active ? runtime_.active->def.name : "stand"; }
 
 // PD torques are recomputed every 0.002 s substep inside the 0.01 s tick
 void Session::physicsSystem() {
-  for (int k = 0; k < kSubsteps; ++k) {
-    robot_->applyPd(physics_);
-    physics_.step(kSubstepSeconds);
-  }
+  robot::stepPhysicsTick(*robot_, physics_);
   plane_.step(engine::kTickSeconds);
 }
 
@@ -341,21 +187,22 @@ void Session::rulesSystem() {
   sensors_ = robot_->sense(physics_);
   telemetry_.distance += (sensors_.basePosition - previous.basePosition).head<2>().norm();
   // a ground skill (prone, crawl: lying is its job) falls by its own termination: onto a side or the back
-  const bool ground = active_ && robot::isGroundSkill(active_->def);
+  const robot::Skill* active = runtime_.active;
+  const bool ground = active && robot::isGroundSkill(active->def);
   // an upright skill stuck leaning or slumped (against a wall, on a knee: it cannot switch, kSwitchMaxTilt) for
   // kStuckTicks counts as down too (levels/mario's autopilot once leaned on the wall in the one-leg stand for 215 s)
-  const bool slumped = active_ && !ground && (sensors_.tilt > kSwitchMaxTilt || sensors_.basePosition.z() < kStuckPelvisHeight);
+  const bool slumped = active && !ground && (sensors_.tilt > robot::kSwitchMaxTilt || sensors_.basePosition.z() < kStuckPelvisHeight);
   stuckTicks_ = slumped ? stuckTicks_ + 1 : 0;
-  robot::updateDrift(sensors_, &drift_);
-  const SkillRuntime* way = ground && skills_ && !active_->def.up.empty() ? skills_->byName(active_->def.up) : nullptr;
-  const bool risingTooLong = way && !robot::isGroundSkill(way->def) && tick_ - activeSince_ >= kStandUpTicks &&
+  robot::updateDrift(sensors_, &runtime_.drift);
+  const robot::Skill* way = ground && skills_ && !active->def.up.empty() ? skills_->byName(active->def.up) : nullptr;
+  const bool risingTooLong = way && !robot::isGroundSkill(way->def) && tick_ - runtime_.activeSince >= kStandUpTicks &&
                              sensors_.basePosition.z() < kStuckPelvisHeight;
-  const bool down = ground ? robot::hasFallen(active_->def.termination, sensors_) || risingTooLong
+  const bool down = ground ? robot::hasFallen(active->def.termination, sensors_) || risingTooLong
                            : sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt ||
                                  stuckTicks_ >= kStuckTicks;
   if (down && !down_) {
     ++telemetry_.falls;
-    ++telemetry_.fallsBySkill[active_ ? active_->def.name : std::string()];
+    ++telemetry_.fallsBySkill[active ? active->def.name : std::string()];
     if (!fallen_) fallen_ = true, fallTick_ = tick_;
     if (course_ && course_->onFall(tick_)) {
       respawn(course_->respawnX());
@@ -395,8 +242,8 @@ uint64_t Session::stateHash() const {
   h.value(c.wz);
   h.value(c.amplitude);
   h.value(c.keysHeld);
-  h.bytes(action_.data(), sizeof(float) * action_.size());
-  h.value(phase_.tp);
+  h.bytes(runtime_.action.data(), sizeof(float) * runtime_.action.size());
+  h.value(runtime_.phase.tp);
   if (course_) course_->hash(physics_, plane_, &h);
   return h.value();
 }
@@ -407,7 +254,7 @@ std::string Session::hudLine() const {
   const std::string keys = engine::keysHeldString(c);
   // a request without a loaded skill model shows as "stand<3"
   std::string skill = activeSkillName();
-  if (!active_ && c.skillRequest >= 0) skill += "<" + std::to_string(c.skillRequest);
+  if (!runtime_.active && c.skillRequest >= 0) skill += "<" + std::to_string(c.skillRequest);
   std::snprintf(buf, sizeof buf, "T %.2f  %s  keys %s  v %+.1f %+.1f w %+.1f%s", seconds(), skill.c_str(),
                 keys.empty() ? "-" : keys.c_str(), c.vx, c.vy, c.wz, fallen_ && !course_ ? "  FALLEN" : "");
   std::string hud = buf;

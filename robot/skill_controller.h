@@ -1,6 +1,6 @@
 // skill_controller.h — turns a skill's policy output into PD targets: default pose + action scale x action
-// + the skill's feed-forward prior (paper §3.1). Shared by training environments and the play runtime so a
-// skill behaves identically in both.
+// + the skill's feed-forward prior (paper §3.1), and the switching rules: the pieces robot/skill_runtime.h
+// composes into the one control step that play, training and the cards run.
 #pragma once
 
 #include <array>
@@ -62,7 +62,7 @@ inline bool hasFallen(const TerminationDef& termination, const Sensors& sensors)
   return fallCause(termination, sensors) != FallCause::None;
 }
 
-// --- switching (the runtime's Session and the training environment's handover episodes share these) ---
+// --- switching: the rules robot::route (robot/skill_runtime.h) composes ---
 
 /// A switch fades the old skill's prior into the new one's over this many ticks (0.3 s): without it a switch
 /// in mid-step drops a lifted foot's prior (up to 1.1 rad at the knee) in one tick.

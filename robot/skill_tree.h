@@ -88,12 +88,12 @@ struct CommandDef {
   /// each interval is resampleSeconds x (1 + U(-jitter, jitter)): without it every change meets the gait at the
   /// same phase (5 s = 6.25 cycles of 0.8 s), and the policy never learns changes at the other phases
   double resampleJitter = 0.0;
-  /// In play only (game::Session's heading hold, W / S / Q / E with no turn key): 0 keeps the heading the robot
+  /// In play only (robot::shapeCommand's heading hold, W / S / Q / E with no turn key): 0 keeps the heading the robot
   /// had when it started moving; > 0 also leans that heading back toward the line it started on, by
   /// atan(lineHold x offset) with the offset in metres
   double lineHold = 0.0;
   /// > 0: each forward or sideways draw also turns at U(-steer, steer) rad/s, on top of the ramp's interlock and
-  /// unramped, as play's heading hold turns the robot while W is held (game::Session::holdHeading); 0: the
+  /// unramped, as play's heading hold turns the robot while W is held (robot::shapeCommand); 0: the
   /// interlock alone, so a skill never sees a turn while it moves
   double steer = 0.0;
   /// false: training draws no turn in place (a wz draw), so a skill that must go straight (the stairs) trains on
@@ -244,7 +244,7 @@ struct CardDef {
   /// axis [rad] + 0.5 x offset across it [m]), that error averaged over the last second (the gait's rock swings the
   /// heading within each cycle), within the skill's wz range [rad/s per rad]
   /// Stairs: the card keeps the robot square to the staircase as a player would, with play's heading-hold law
-  /// (game::Session::holdHeading): wz = -steer x the heading off +X [rad], at most kHeadingMaxRate and the wz range.
+  /// (robot::shapeCommand): wz = -steer x the heading off +X [rad], at most kHeadingMaxRate and the wz range.
   double steer = 0.0;
   /// Velocity-type cards (kick, ...): each episode starts as the skill's training handover episodes do (from
   /// training.handover_from or the parent, through the skills in between, handover_s / handover_via_s /
@@ -310,7 +310,7 @@ struct SkillDef {
   double lineSteer = 0;
   /// [training] heading_steer = k: training episodes are steered square to the world's +X (the staircase's way,
   /// which the stairs card steers along) as play's heading hold steers: each tick wz = -k x the yaw off +X, within
-  /// game::headingHoldLimit (kHeadingMaxRate and the skill's wz range, which must straddle 0). The drawn wz is
+  /// robot::headingHoldLimit (kHeadingMaxRate and the skill's wz range, which must straddle 0). The drawn wz is
   /// replaced, so training walks the stairs as the card and a player do, not turned by random draws. 0: off.
   double headingSteer = 0;
   /// [training] heading_steer_share = p: the share of training episodes that heading_steer steers (drawn per episode;

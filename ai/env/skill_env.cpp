@@ -1,8 +1,6 @@
 // skill_env.cpp — the training environment of a skill.
 #include "ai/env/skill_env.h"
 
-#include "engine/input/command.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -15,7 +13,6 @@
 #include "engine/input/command.h"
 
 #include "engine/loop/clock.h"
-#include "game/session.h"
 
 namespace ai {
 namespace {
@@ -23,14 +20,6 @@ namespace {
 // a double in [0, 1) from 53 random bits (portable across standard libraries)
 double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
 double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
-
-// one control tick of physics: the PD torques recomputed every substep, as the game's physics system does
-void stepControlTick(robot::Robot& robot, engine::PhysicsWorld& world) {
-  for (int j = 0; j < game::kSubsteps; ++j) {
-    robot.applyPd(world);
-    world.step(game::kSubstepSeconds);
-  }
-}
 
 // one velocity draw with the keyboard's interlock: one of vx, vy, wz non-zero, or all zero. Forward gets half of
 // the non-zero commands, sideways and turning a quarter each; a kind whose range is [0, 0] (not used by the
@@ -55,8 +44,8 @@ struct SkillEnv::Env {
   std::mt19937_64 rng;
   robot::Sensors sensors;
   robot::SkillCommand command;
-  robot::PhaseClock phase;
-  std::array<float, robot::kActionSize> action{}, previousAction{};
+  robot::SkillState state;  // the runtime: the trainee's clock, filtered action, a handover's prior fading out, line
+  std::array<float, robot::kActionSize> previousAction{};
   int tick = 0, nextCommandTick = 0, nextPushTick = 0;
   int liftAskedTicks = 0;  // consecutive ticks a lift of >= kFootLiftHeight / 2 has been asked (lifted_foot_touch_s)
   double episodeReturn = 0;
@@ -65,9 +54,6 @@ struct SkillEnv::Env {
   // per-step outputs
   float reward = 0;
   uint8_t terminated = 0, truncated = 0;
-  int fadeTicks = 0;  // a handover episode: ticks of the parent prior's fade left
-  const robot::SkillDef* fadeFrom = nullptr;  // ... the skill whose prior fades out
-  robot::PhaseClock fadePhase;  // the parent's clock, going on under its prior during the fade
   double finishedReturn = 0;  // the finished episode's return (reported as float; the curriculum's in full)
   int finishedLength = 0;
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
@@ -81,9 +67,7 @@ struct SkillEnv::Env {
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   std::array<float, robot::kObservationSize> finalObservation{};
   Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // hold_position: where a zero command (or a push) began
-  Eigen::Vector2d lineStart = Eigen::Vector2d::Zero(), lineHeading = Eigen::Vector2d::UnitX();  // crawl_line, heading_hold
   double yawRateSmoothed = 0;  // line_turn: the world yaw rate, low-passed over kLineTurnSeconds
-  double steerError = 0;       // [training] line_steer: the line error averaged over about a second [rad]
 };
 
 SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
@@ -95,18 +79,12 @@ SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill,
       throw engine::Error("skill '" + skill_.name + "' trains handover episodes: the environment needs its parent's policy");
     parent_ = *options_.parent;
     for (const HandoverStage& v : options_.via) via_.push_back(*v.skill);
-    route_.push_back({&parent_, options_.parentPolicy});
-    for (size_t k = 0; k < via_.size(); ++k) route_.push_back({&via_[k], options_.via[k].policy});
   }
   if (skill_.handoverBack > 0) {
     if (!options_.back.skill || !options_.back.policy)
       throw engine::Error("skill '" + skill_.name + "' trains handover episodes from '" + skill_.handoverBackFrom +
                           "': the environment needs that skill's policy");
     backChild_ = *options_.back.skill;
-    backSkill_ = skill_;
-    backSkill_.handoverSeconds = skill_.handoverBackSeconds;
-    backSkill_.handoverVx = {0.0, 0.0};
-    backRoute_.push_back({&backChild_, options_.back.policy});
   }
   for (int i = 0; i < options.numEnvs; ++i) {
     envs_.push_back(std::make_unique<Env>());
@@ -114,6 +92,21 @@ SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill,
     envs_.back()->termSums.assign(terms_.size(), 0.0);
   }
   applyLesson();
+}
+
+void SkillEnv::makeRoutes() {
+  trainee_.def = skill_;
+  if (skill_.handover > 0) {
+    std::vector<HandoverStage> stages{{&parent_, options_.parentPolicy}};
+    for (size_t k = 0; k < via_.size(); ++k) stages.push_back({&via_[k], options_.via[k].policy});
+    route_ = makeHandoverRoute(stages, skill_);
+  }
+  if (skill_.handoverBack > 0) {
+    backSkill_ = skill_;
+    backSkill_.handoverSeconds = skill_.handoverBackSeconds;
+    backSkill_.handoverVx = {0.0, 0.0};
+    backRoute_ = makeHandoverRoute({{&backChild_, options_.back.policy}}, backSkill_);
+  }
 }
 
 int SkillEnv::lessonCount() const {
@@ -126,12 +119,13 @@ double SkillEnv::advanceAt() const {
 
 void SkillEnv::applyLesson() {
   const robot::CurriculumDef& c = treeSkill_.curriculum;
-  if (c.lessons() == 0) return;
+  if (c.lessons() == 0) return makeRoutes();
   const size_t l = size_t(std::clamp(lesson_, 0, int(c.lessons()) - 1));
   if (!c.vxMax.empty()) skill_.commands.vx.hi = c.vxMax[l];
   if (!c.amplitudeMax.empty()) skill_.commands.amplitude.hi = c.amplitudeMax[l];
   if (!c.halfPeriodTicks.empty()) skill_.prior.halfPeriodTicks = c.halfPeriodTicks[l];
   if (!c.stride.empty()) skill_.prior.stride = c.stride[l];
+  makeRoutes();
 }
 
 SkillEnv::~SkillEnv() = default;
@@ -173,7 +167,7 @@ void SkillEnv::sampleCommand(Env& e) {
 }
 
 // [commands] steer: while the command moves the robot, its yaw rate is the keys' (0 under the interlock) plus the
-// draw's turn, as play's heading hold adds a turn to W (game::Session::holdHeading)
+// draw's turn, as play's heading hold adds a turn to W (robot::shapeCommand)
 void SkillEnv::steerCommand(Env& e) const {
   e.command.wz = e.keysWz;
   if (e.command.vx != 0.0 || e.command.vy != 0.0) e.command.wz += e.steer;
@@ -208,9 +202,8 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   }
   e.robot->teleport(*e.world, base, q);
   e.sensors = e.robot->sense(*e.world);
-  e.phase = robot::PhaseClock{};
-  e.action.fill(0.0f);
-  e.fadeTicks = 0;
+  e.state = robot::SkillState{};
+  robot::enterSkill(&e.state, trainee_, e.sensors, 0);
   robot::SkillCommand handedOver;  // the keys' command at the switch (zero for an ordinary episode)
   // (the draw is made only for a skill with handover episodes, so other skills' episodes are unchanged)
   const double draw = allowHandover && skill_.handover + skill_.handoverBack > 0 ? unit(e.rng) : 1.0;
@@ -222,12 +215,15 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
     // a ceiling goes over the robot once it lies (a slab over the arena, the robot under its middle)
     addCeiling(*e.world, skill_.terrain, e.sensors.basePosition.head<2>(), 0.0, 20.0, 40.0, 40.0, friction);
   }
-  e.previousAction = e.action;
-  e.lineStart = e.sensors.basePosition.head<2>();  // the episode's motion starts here (after a handover: lying)
-  e.lineHeading = robot::groundHeading(e.sensors);
+  e.previousAction = e.state.action;
+  // the episode's motion starts here (after a handover: lying), facing the way the robot faces
+  Eigen::Vector2d& lineStart = e.state.lineStart;
+  Eigen::Vector2d& lineHeading = e.state.lineAlong;
+  lineStart = e.sensors.basePosition.head<2>();
+  lineHeading = robot::groundHeading(e.sensors);
   if (skill_.lineJitterHeading > 0 || skill_.lineJitterOffset > 0) {  // (drawn only when asked for)
-    e.lineHeading = Eigen::Rotation2Dd(skill_.lineJitterHeading * (2.0 * unit(e.rng) - 1.0)) * e.lineHeading;
-    e.lineStart += skill_.lineJitterOffset * (2.0 * unit(e.rng) - 1.0) * Eigen::Vector2d(-e.lineHeading.y(), e.lineHeading.x());
+    lineHeading = Eigen::Rotation2Dd(skill_.lineJitterHeading * (2.0 * unit(e.rng) - 1.0)) * lineHeading;
+    lineStart += skill_.lineJitterOffset * (2.0 * unit(e.rng) - 1.0) * Eigen::Vector2d(-lineHeading.y(), lineHeading.x());
   }
   // [training] heading_steer_share: steered episodes drawn only when a share below 1 asks for it (others unchanged)
   e.headingSteered = skill_.headingSteer > 0 && (skill_.headingSteerShare >= 1.0 || unit(e.rng) < skill_.headingSteerShare);
@@ -237,7 +233,7 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   if (e.ball >= 0) e.ballState = e.world->ballState(e.ball);
   e.tick = 0;
   e.yawRateSmoothed = 0;
-  e.steerError = 0;
+  e.state.lineSteerError = 0;
   e.liftAskedTicks = 0;
   e.episodeReturn = 0;
   // every episode starts at amplitude 0; a ramped velocity command goes on from the handover's, as the keys' ramp
@@ -251,110 +247,98 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.nextPushTick = options_.randomise && pushEvery > 0
                        ? int(std::lround((0.5 + unit(e.rng)) * pushEvery / engine::kTickSeconds))
                        : INT32_MAX;
+  advanceCommand(e);
+}
+
+// The command moves one tick toward its draw before it is observed, as the keys ramp before play's control step:
+// the policy sees the command its action is then taken under.
+void SkillEnv::advanceCommand(Env& e) const {
+  // the amplitude command ramps like the R / F keys when the skill says so
+  if (skill_.commands.amplitudeRate > 0) {
+    const double step = skill_.commands.amplitudeRate * engine::kTickSeconds;
+    e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
+  }
+  if (skill_.commands.ramp) {
+    const engine::CommandLimits keys;  // the keyboard's rates
+    if (skill_.commands.steer > 0) e.command.wz = e.keysWz;  // the ramp sees the keys' command, not the steer
+    engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
+                                &e.command.vy, &e.command.wz);
+    if (skill_.commands.steer > 0) e.keysWz = e.command.wz, steerCommand(e);
+  }
 }
 
 // a handover episode's start: runHandover along route_ (the parent, then the skills routed through)
 bool SkillEnv::handOver(Env& e, bool back, robot::SkillCommand* commandAtSwitch) {
-  HandoverEnd end;
-  end.action = e.action;
-  end.phase = e.phase;
-  const std::vector<HandoverStage>& route = back ? backRoute_ : route_;
-  if (!runHandover(model_, e.model, *e.world, *e.robot, &e.sensors, route, back ? backSkill_ : skill_, e.rng, &end)) return false;
-  e.fadeFrom = route.back().skill;
-  e.phase = end.phase;
-  e.action = end.action;
-  e.fadePhase = end.fadePhase;
-  e.fadeTicks = end.fadeTicks;
-  *commandAtSwitch = end.command;
+  e.state = robot::SkillState{};
+  if (!runHandover(model_, e.model, *e.world, *e.robot, &e.sensors, back ? backRoute_ : route_, e.rng, &e.state,
+                   commandAtSwitch))
+    return false;
+  e.state.active = &trainee_;  // the same skill as the route's last (its policy runs batched, outside)
   return true;
+}
+
+HandoverRoute makeHandoverRoute(const std::vector<HandoverStage>& stages, const robot::SkillDef& destination) {
+  HandoverRoute r;
+  for (const HandoverStage& st : stages) r.set.skills.push_back({*st.skill, st.policy});
+  r.set.skills.push_back({destination, {}});
+  return r;
 }
 
 bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actual, engine::PhysicsWorld& world,
-                 robot::Robot& robot, robot::Sensors* sensors, const std::vector<HandoverStage>& stages,
-                 const robot::SkillDef& skill, std::mt19937_64& rng, HandoverEnd* end) {
-  std::vector<const robot::SkillDef*> route;
-  for (const HandoverStage& st : stages) route.push_back(st.skill);
-  route.push_back(&skill);
-  const robot::SkillDef& driver = *route.front();
-  robot::SkillCommand command, target;
+                 robot::Robot& robot, robot::Sensors* sensors, const HandoverRoute& route, std::mt19937_64& rng,
+                 robot::SkillState* state, robot::SkillCommand* commandAtSwitch) {
+  const std::vector<robot::Skill>& skills = route.set.skills;
+  const robot::Skill& destination = route.destination();
+  const robot::SkillDef& skill = destination.def;
+  const robot::SkillDef& driver = skills.front().def;
+  // the keys: the drive's command (W held at handover_vx, or one draw), ramping at the keyboard's rates
+  robot::SkillCommand keys, target;
   if (skill.handoverVx.lo != 0 || skill.handoverVx.hi != 0) target.vx = uniform(rng, skill.handoverVx);  // W held
   else drawVelocity(rng, driver.commands, &target);
   int run = std::max(1, int(std::lround(uniform(rng, skill.handoverSeconds) / engine::kTickSeconds)));
-  const engine::CommandLimits keys;
-  Eigen::MatrixXf obs(robot::kObservationSize, 1), out;
-  robot::PhaseClock& phase = end->phase;
-  if (robot::startsFromDefaultPose(driver)) {  // the standing controller first, as play enters a key-pose skill
-    robot.setCommand(robot::Robot::standingCommand(actual));
-    for (int t = 0; t < game::kMinHopTicks; ++t) stepControlTick(robot, world);
-    *sensors = robot.sense(world);
-  }
-  robot::PhaseClock fadePhase;
-  int fadeTicks = 0;
-  Eigen::Vector2d drift = Eigen::Vector2d::Zero();  // the pelvis's low-passed velocity, as the session keeps it
-  for (size_t k = 0; k + 1 < route.size(); ++k) {
-    const robot::SkillDef& p = *route[k];
-    const robot::SkillDef& next = *route[k + 1];
-    const bool waits = robot::switchWaits(p, next);
-    for (int t = 0;; ++t) {
-      if (t >= run) {  // the switch, once the skill's brake (if it waits) and the gait phase allow it
-        if (waits) target = robot::switchBrakeTarget(p, next, target);
-        const bool posture = robot::postureAllowsSwitch(p, next, *sensors, t - run) &&
-                             robot::cycleAllowsSwitch(p, skill, phase, drift.norm(), t - run);
-        // as game::Session switches: the posture rule always (into the jump a settled stand, into a ground branch
-        // lying still), then a skill that brakes first its brake; a lead-in that never gets there is drawn again
-        const bool ready = posture && (!waits || t - run >= robot::maxSwitchWaitTicks(next) ||
-                                       robot::readyForSwitch(p, next, target, command, *sensors, drift.norm()));
-        if (!posture && t - run >= 2 * robot::kMaxRestWaitTicks) return false;
-        if (ready && robot::phaseAllowsSwitch(p, next, phase)) break;
-      }
-      engine::rampVelocityCommand(target.vx, target.vy, target.wz, keys.vRate, keys.wzRate, &command.vx, &command.vy,
-                                  &command.wz);
-      double s, c;
-      robot::phaseSignal(phase.tp, p.prior.halfPeriodTicks, &s, &c);
-      robot::SkillCommand seen = command;
-      if (p.commands.stepCommand) robot::stepIntoCommand(*sensors, world, p.commands.stepLookBack, &seen);
-      robot::Observation o;
-      robot::buildObservation(*sensors, nominal, end->action, seen, s, c, &o);
-      for (int j = 0; j < robot::kObservationSize; ++j) obs(j, 0) = o[size_t(j)];
-      stages[k].policy(obs, &out);
-      robot::filterAction(p, out.data(), &end->action);
-      if (!robot::holdsClosingStand(p, phase, t >= run && robot::isStillSkill(skill))) phase.advance(p.prior, command);
+  const engine::CommandLimits limits;
+  robot::SwitchRequest request;
+  request.vRate = limits.vRate, request.wzRate = limits.wzRate;
+  *state = robot::SkillState{};
+  robot::SkillCommand command;
+  int64_t tick = 0;
+  size_t stage = 0;  // the stage whose key is pressed ...
+  int driven = 0;    // ... and the ticks it has driven since it took over
+  for (;; ++tick) {
+    if (state->active == &skills[stage] && driven >= run) {  // its drive is over: the next key
+      ++stage;
+      driven = 0;
+      const bool via = stage + 1 < skills.size();  // a stage routed through drives at no movement key
+      if (via) run = int(std::lround(uniform(rng, skill.handoverViaSeconds) / engine::kTickSeconds));
+      if (via || robot::isStillSkill(skill)) target = robot::SkillCommand{};
+    }
+    request.wanted = &skills[stage];
+    engine::rampVelocityCommand(target.vx, target.vy, target.wz, limits.vRate, limits.wzRate, &keys.vx, &keys.vy, &keys.wz);
+    request.vx = keys.vx, request.vy = keys.vy, request.wz = keys.wz;
+    const robot::RouteResult routed = robot::route(route.set, state, *sensors, request, tick);
+    if (state->active == &destination) {
+      *commandAtSwitch = command;
+      return true;
+    }
+    if (!routed.switchedTo && state->postureWaitTicks > kMaxHandoverWaitTicks) return false;  // never got there
+    if (!state->active) {  // the standing controller until the first skill takes over
+      robot.setCommand(robot::Robot::standingCommand(actual));
+    } else {
+      command = robot::shapeCommand(state, *sensors, request);
       robot::PdCommand pd;
-      robot::skillPdCommand(actual, p, end->action, phase, command, &pd);
-      if (fadeTicks > 0) {  // the skill before this one fading out, as the runtime does
-        fadePhase.advance(route[k - 1]->prior, command);
-        robot::fadePrior(actual, *route[k - 1], fadePhase, p, phase, command, double(fadeTicks) / robot::kSwitchFadeTicks, &pd);
-        --fadeTicks;
-      }
+      robot::controlStep(nominal, actual, state, *sensors, world, command, robot::waitsForStill(*state, request.wanted), &pd);
       robot.setCommand(pd);
-      stepControlTick(robot, world);
-      *sensors = robot.sense(world);
-      robot::updateDrift(*sensors, &drift);
-      if (robot::hasFallen(p.termination, *sensors)) return false;
+      if (state->active == &skills[stage]) ++driven;
     }
-    fadePhase = phase;
-    robot::carryPhase(p.prior, next.prior, &phase);
-    fadeTicks = robot::kSwitchFadeTicks;
-    if (k + 2 < route.size()) {  // next is a skill routed through: a zero command (its key, no movement key)
-      target = robot::SkillCommand{};
-      run = int(std::lround(uniform(rng, skill.handoverViaSeconds) / engine::kTickSeconds));
-    }
+    robot::stepPhysicsTick(robot, world);
+    *sensors = robot.sense(world);
+    robot::updateDrift(*sensors, &state->drift);
+    if (state->active && robot::hasFallen(state->active->def.termination, *sensors)) return false;
   }
-  end->fadePhase = fadePhase;
-  end->fadeTicks = fadeTicks;
-  end->command = command;
-  return true;
 }
 
 void SkillEnv::observe(const Env& e, float* out) const {
-  double s, c;
-  robot::phaseSignal(e.phase.tp, skill_.prior.halfPeriodTicks, &s, &c);
-  robot::SkillCommand command = e.command;
-  if (skill_.commands.lineCommand) robot::lineIntoCommand(e.sensors, e.lineStart, e.lineHeading, &command);
-  if (skill_.commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, skill_.commands.stepLookBack, &command);
-  robot::Observation o;
-  robot::buildObservation(e.sensors, model_, e.action, command, s, c, &o);
-  std::copy(o.begin(), o.end(), out);
+  robot::observe(model_, e.state, e.sensors, *e.world, e.command, out);
 }
 
 void SkillEnv::reset(uint64_t seed, Eigen::MatrixXf* observations) {
@@ -378,35 +362,14 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
 
   pool_.parallelFor(n, [&](int i) {
     Env& e = *envs_[size_t(i)];
-    e.previousAction = e.action;
-    robot::filterAction(skill_, actions.col(i).data(), &e.action);
+    e.previousAction = e.state.action;
 
-    // the amplitude command ramps like the R / F keys when the skill says so
-    if (skill_.commands.amplitudeRate > 0) {
-      const double step = skill_.commands.amplitudeRate * engine::kTickSeconds;
-      e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
-    }
-    if (skill_.commands.ramp) {
-      const engine::CommandLimits keys;  // the keyboard's rates
-      if (skill_.commands.steer > 0) e.command.wz = e.keysWz;  // the ramp sees the keys' command, not the steer
-      engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
-                                  &e.command.vy, &e.command.wz);
-      if (skill_.commands.steer > 0) e.keysWz = e.command.wz, steerCommand(e);
-    }
-    // control: targets from action + prior, then the physics substeps with PD every substep
-    e.phase.advance(skill_.prior, e.command);
+    // control: the runtime's step from the policy's output (filtered action, clock, prior, a handover's fade)
     robot::PdCommand pd;
-    robot::skillPdCommand(e.model, skill_, e.action, e.phase, e.command, &pd);
-    if (e.fadeTicks > 0) {  // a handover episode's first 0.3 s: the parent's prior fades out as in play
-      const robot::SkillDef& from = *e.fadeFrom;
-      e.fadePhase.advance(from.prior, e.command);
-      robot::fadePrior(e.model, from, e.fadePhase, skill_, e.phase, e.command,
-                       double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
-      --e.fadeTicks;
-    }
+    robot::act(e.model, &e.state, actions.col(i).data(), e.command, false, &pd);
     e.robot->setCommand(pd);
     const auto t0 = std::chrono::steady_clock::now();
-    stepControlTick(*e.robot, *e.world);
+    robot::stepPhysicsTick(*e.robot, *e.world);
     e.physicsSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     e.sensors = e.robot->sense(*e.world);
     ++e.tick;
@@ -418,22 +381,22 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     // [training] line_steer: steered back toward the line as the crawl card (and a player) steers
     if (skill_.lineSteer > 0) {
       robot::SkillCommand line;
-      robot::lineIntoCommand(e.sensors, e.lineStart, e.lineHeading, &line);
-      e.command.wz = robot::steerTowardLine(skill_.commands, skill_.lineSteer, line, &e.steerError);
+      robot::lineIntoCommand(e.sensors, e.state.lineStart, e.state.lineAlong, &line);
+      e.command.wz = robot::steerTowardLine(skill_.commands, skill_.lineSteer, line, &e.state.lineSteerError);
     }
     // [training] heading_steer: squared up to +X as the stairs card (and play's heading hold) steers
-    else if (e.headingSteered) e.command.wz = game::squareToPlusX(e.sensors.yaw, skill_.headingSteer, skill_.commands);
+    else if (e.headingSteered) e.command.wz = robot::squareToPlusX(e.sensors.yaw, skill_.headingSteer, skill_.commands);
     // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead (not a steer back
     // toward the line)
-    else if (e.command.wz != 0.0) e.lineHeading = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.lineHeading;
+    else if (e.command.wz != 0.0) e.state.lineAlong = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.state.lineAlong;
 
     const double yawRate = (e.sensors.baseRotation * e.sensors.angularVelocity).z();
     e.yawRateSmoothed += (yawRate - e.yawRateSmoothed) * engine::kTickSeconds / kLineTurnSeconds;
 
     // reward
-    RewardContext ctx{&e.sensors, &e.command, &e.action, &e.previousAction, &skill_,
-                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor, e.phase.tp,
-                      &e.lineStart, &e.lineHeading, e.yawRateSmoothed, e.world.get()};
+    RewardContext ctx{&e.sensors, &e.command, &e.state.action, &e.previousAction, &skill_,
+                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor, e.state.phase.tp,
+                      &e.state.lineStart, &e.state.lineAlong, e.yawRateSmoothed, e.world.get()};
     double reward = 0;
     for (size_t k = 0; k < terms_.size(); ++k) {
       const double v = terms_[k].weight * terms_[k].term->value(ctx);
@@ -474,6 +437,8 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       e.finishedReturn = e.episodeReturn;
       e.finishedLength = e.tick;
       resetEnv(e);
+    } else {
+      advanceCommand(e);
     }
     observe(e, result->observations.col(i).data());
   });

@@ -11,7 +11,7 @@
 #include "ai/env/vec_env.h"
 #include "ai/env/worker_pool.h"
 #include "ai/rewards/reward_terms.h"
-#include "robot/skill_controller.h"
+#include "robot/skill_runtime.h"
 
 namespace ai {
 
@@ -22,28 +22,29 @@ struct HandoverStage {
   std::function<void(const Eigen::MatrixXf&, Eigen::MatrixXf*)> policy;
 };
 
-/// Where a handover leaves the skill taking over: its clock (the gait phase carried over), the filtered action it
-/// inherits, the previous skill's clock for the prior fade and the fade's ticks, and the keys' command at the switch.
-struct HandoverEnd {
-  robot::PhaseClock phase, fadePhase;
-  int fadeTicks = 0;
-  std::array<float, robot::kActionSize> action{};
-  robot::SkillCommand command;
+/// A handover's skills as the runtime runs them: the stages in route order, then the skill taking over (its policy
+/// runs outside: it is being trained or measured), in one robot::SkillSet so that the tree routes between them.
+struct HandoverRoute {
+  robot::SkillSet set;
+  const robot::Skill& destination() const { return set.skills.back(); }
 };
+HandoverRoute makeHandoverRoute(const std::vector<HandoverStage>& stages, const robot::SkillDef& destination);
 
-/// One handover into `skill` as play makes it (training handover episodes, and cards that start that way):
-/// route[0] drives first, at `skill.handoverVx` held (or one random draw from its command ranges) for a random
-/// `skill.handoverSeconds`; then each switch the runtime makes (robot/skill_controller.h): a still skill waits for
-/// rest while the command ramps to zero and, into a key-pose skill, for a settled stand (robot::postureAllowsSwitch);
-/// the next skill starts with the filtered action, the phase carried over and the previous prior fading out. Each
-/// skill after route[0] runs `skill.handoverViaSeconds` at a zero command before the next switch. `nominal` is
-/// the model the observations use, `actual` the (randomised) one the PD targets use. A route[0] that starts from
-/// the default pose (a key-pose skill: the jump) takes over from the standing controller after kMinHopTicks, as in
-/// play; out of such a skill each switch waits for a settled stand (at most 3 s). `robot` starts as placed;
-/// `sensors` is updated. Returns false if the robot fell on the way.
+/// One handover into the route's destination `skill` as a player makes it in play, through the skill runtime
+/// (robot::route, robot::shapeCommand, robot::controlStep): stage 0 takes the robot from the standing controller (a
+/// key-pose skill after kMinHopTicks, as play enters it) and drives at `skill.handoverVx` held (or one random draw
+/// from its command ranges, the keys ramping there) for a random `skill.handoverSeconds`; then the next stage's key is
+/// pressed, the movement keys released when the destination is a still skill (held otherwise), and the runtime makes
+/// the switch when its rules allow (brake, posture, cycle, phase); each stage after the first runs
+/// `skill.handoverViaSeconds` at no movement key before the next key. `nominal` is the model the observations use,
+/// `actual` the (randomised) one the PD targets use. `robot` starts as placed; `sensors` is updated. On success
+/// *state holds the runtime as the destination takes over (its clock carried, the filtered action, the prior fading
+/// out) and *commandAtSwitch the command at the switch. Returns false if the robot fell on the way, or a switch
+/// waited longer than kMaxHandoverWaitTicks.
+constexpr int kMaxHandoverWaitTicks = 600;
 bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actual, engine::PhysicsWorld& world,
-                 robot::Robot& robot, robot::Sensors* sensors, const std::vector<HandoverStage>& route,
-                 const robot::SkillDef& skill, std::mt19937_64& rng, HandoverEnd* end);
+                 robot::Robot& robot, robot::Sensors* sensors, const HandoverRoute& route, std::mt19937_64& rng,
+                 robot::SkillState* state, robot::SkillCommand* commandAtSwitch);
 
 struct SkillEnvOptions {
   int numEnvs = 20;
@@ -110,6 +111,7 @@ class SkillEnv final : public VecEnv {
   bool handOver(Env& e, bool back, robot::SkillCommand* commandAtSwitch);
   void sampleCommand(Env& e);
   void steerCommand(Env& e) const;
+  void advanceCommand(Env& e) const;
   void observe(const Env& e, float* out) const;
   int lessonCount() const;
   double advanceAt() const;
@@ -120,10 +122,11 @@ class SkillEnv final : public VecEnv {
   robot::SkillDef treeSkill_;  // the tree entry as written
   robot::SkillDef parent_;  // handover episodes only: the skill that drives first
   std::vector<robot::SkillDef> via_;  // ... the skills routed through after it
-  std::vector<HandoverStage> route_;  // parent_ then via_, with their policies (the last one's prior fades out)
   robot::SkillDef backChild_;  // handover episodes from a child: the child that drives first
   robot::SkillDef backSkill_;  // ... and this skill as that route switches into it (handover_back_s as its drive)
-  std::vector<HandoverStage> backRoute_;
+  robot::Skill trainee_;       // skill_ as the runtime runs it (its policy runs outside, batched)
+  HandoverRoute route_, backRoute_;  // parent_ then via_ into skill_; backChild_ into backSkill_
+  void makeRoutes();
   std::vector<WeightedTerm> terms_;
   SkillEnvOptions options_;
   WorkerPool pool_;

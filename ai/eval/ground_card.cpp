@@ -12,8 +12,7 @@
 #include "ai/env/worker_pool.h"
 #include "engine/core/error.h"
 #include "engine/loop/clock.h"
-#include "game/session.h"
-#include "robot/skill_controller.h"
+#include "robot/skill_runtime.h"
 
 namespace ai {
 namespace {
@@ -46,11 +45,9 @@ struct Episode {
   std::unique_ptr<robot::Robot> robot;
   std::mt19937_64 rng;
   robot::Sensors sensors;
-  robot::PhaseClock phase, fadePhase;
-  std::array<float, robot::kActionSize> action{};
-  const robot::SkillDef* driving = nullptr;  // the skill in control
-  const robot::SkillDef* fadingFrom = nullptr;
-  int fadeTicks = 0;
+  robot::SkillState state;  // the runtime: the skill in control (the parent, the measured skill, its up skill)
+  const robot::Skill* wanted = nullptr;  // the skill the card asks for (the runtime switches when its rules allow)
+  int64_t tick = 0;     // ticks since the start
   Stage stage = kLying;
   int stageTick = 0;    // ticks in the current stage
   int lieTicks = 0;     // drawn: how long the parent lies down
@@ -65,22 +62,10 @@ struct Episode {
   double offset = 0, headingOff = 0;  // the latest offset across the tunnel [m] and heading from its axis [rad], left > 0
   int reachTick = -1, gainTick = 0, longestStall = 0;
   bool outside = false;
-  double steerError = 0;  // crawls steered by the card: the line error averaged over about a second [rad]
   double friction = 1;
   Stage fellIn = kDone;  // where it fell (kDone: it did not)
   robot::FallCause fallCause = robot::FallCause::None;
 };
-
-// the switch as the runtime makes it (game::Session::switchTo): the action carries over, the gait clock is
-// carried (a keyframes prior starts from its first key) and the old prior fades out on its own clock
-void switchSkill(Episode& e, const robot::SkillDef& to) {
-  e.fadePhase = e.phase;
-  robot::carryPhase(e.driving->prior, to.prior, &e.phase);
-  e.fadingFrom = e.driving;
-  e.fadeTicks = robot::kSwitchFadeTicks;
-  e.driving = &to;
-  e.stageTick = 0;
-}
 
 }  // namespace
 
@@ -116,7 +101,6 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
     e.world->addGround(friction);
     e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, M_PI * (2 * unit(e.rng) - 1));
     e.sensors = e.robot->sense(*e.world);
-    e.driving = parent.def;
     if (crawl) e.command.vx = o.vx.lo + (o.vx.hi - o.vx.lo) * unit(e.rng);
   });
   const int riseTicks = int(std::lround(o.riseSeconds / engine::kTickSeconds));
@@ -125,51 +109,41 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
                               : int(std::lround(o.episodeSeconds / engine::kTickSeconds));
   const int afterTicks = int(std::lround(o.afterSeconds / engine::kTickSeconds));
   const robot::SkillCommand still;  // the parent and the up skill run at a zero command
-  const DrivingSkill measured{&skill, policy};
-  const DrivingSkill* drivers[3] = {&parent, &measured, &up};
+  // the runtime's skills: the parent, the measured skill, its up skill (stand-ups)
+  robot::SkillSet set;
+  set.skills.push_back({*parent.def, parent.policy});
+  set.skills.push_back({skill, policy});
+  if (standUp) set.skills.push_back({*up.def, up.policy});
+  const robot::Skill& measured = set.skills[1];
+  for (Episode& e : eps) robot::enterSkill(&e.state, set.skills[0], e.sensors, 0);
   Eigen::MatrixXf obs(robot::kObservationSize, n);
   Eigen::MatrixXf act[3];
+  auto driver = [&](const Episode& e) { return size_t(e.state.active - set.skills.data()); };
+  // the longest the switch into the measured skill may wait for the runtime's rules (prone lying still)
+  const int maxSwitchWait = int(std::lround(6.0 / engine::kTickSeconds));
 
   for (;;) {
     bool any[3] = {false, false, false};
     for (int i = 0; i < n; ++i) {
       const Episode& e = eps[size_t(i)];
       if (e.stage == kDone) continue;
-      any[e.stage] = true;
-      double s, c;
-      robot::phaseSignal(e.phase.tp, e.driving->prior.halfPeriodTicks, &s, &c);
-      robot::SkillCommand command = e.stage == kRising ? e.command : still;
-      // a skill that keeps to a line sees the one it began on (the tunnel's middle: the card lays the tunnel there)
-      if (e.stage == kRising && e.driving->commands.lineCommand) robot::lineIntoCommand(e.sensors, e.start, e.along, &command);
-      if (e.driving->commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, e.driving->commands.stepLookBack, &command);
-      robot::Observation ob;
-      robot::buildObservation(e.sensors, model, e.action, command, s, c, &ob);
-      for (int k = 0; k < robot::kObservationSize; ++k) obs(k, i) = ob[size_t(k)];
+      any[driver(e)] = true;
+      robot::observe(model, e.state, e.sensors, *e.world, e.stage == kRising ? e.command : still, obs.col(i).data());
     }
     if (!any[0] && !any[1] && !any[2]) break;
-    for (int k = 0; k < 3; ++k)
-      if (any[k]) drivers[k]->policy(obs, &act[k]);
+    for (size_t k = 0; k < set.skills.size(); ++k)
+      if (any[k]) set.skills[k].policy(obs, &act[k]);
     pool.parallelFor(n, [&](int i) {
       Episode& e = eps[size_t(i)];
       if (e.stage == kDone) return;
-      const robot::SkillCommand& command = e.stage == kRising ? e.command : still;
-      robot::filterAction(*e.driving, act[e.stage].col(i).data(), &e.action);
-      e.phase.advance(e.driving->prior, command);
       robot::PdCommand pd;
-      robot::skillPdCommand(e.model, *e.driving, e.action, e.phase, command, &pd);
-      if (e.fadeTicks > 0) {
-        e.fadePhase.advance(e.fadingFrom->prior, command);
-        robot::fadePrior(e.model, *e.fadingFrom, e.fadePhase, *e.driving, e.phase, command,
-                         double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
-        --e.fadeTicks;
-      }
+      robot::act(e.model, &e.state, act[driver(e)].col(i).data(), e.stage == kRising ? e.command : still, false, &pd);
       e.robot->setCommand(pd);
-      for (int k = 0; k < game::kSubsteps; ++k) {
-        e.robot->applyPd(*e.world);
-        e.world->step(game::kSubstepSeconds);
-      }
+      robot::stepPhysicsTick(*e.robot, *e.world);
       e.sensors = e.robot->sense(*e.world);
+      robot::updateDrift(e.sensors, &e.state.drift);
       ++e.stageTick;
+      ++e.tick;
       if (e.stage == kRising && e.standTick < 0 && robot::hasStoodUp(e.sensors)) e.standTick = e.stageTick;
       if (e.stage == kRising && crawl) {
         const Eigen::Vector2d d = e.sensors.basePosition.head<2>() - e.start;
@@ -179,7 +153,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
         e.offset = line.aux1, e.headingOff = line.aux0;
         e.side = std::max(e.side, std::abs(e.offset));
         if (o.steer > 0) {  // as a player steers: back toward the axis, not at every swing of the rock
-          e.command.wz = robot::steerTowardLine(skill.commands, o.steer, line, &e.steerError);
+          e.command.wz = robot::steerTowardLine(skill.commands, o.steer, line, &e.state.lineSteerError);
         }
         if (progress >= e.best + 0.1) {
           e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
@@ -192,30 +166,44 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
         e.torso.add(torso.translation().z(), o.pushUpRise);
         e.chest.add((torso * robot::kChestInTorso).z(), o.pushUpRise);
       }
-      const robot::FallCause cause = robot::fallCause(e.driving->termination, e.sensors);
+      const robot::FallCause cause = robot::fallCause(e.state.active->def.termination, e.sensors);
       if (cause != robot::FallCause::None) {
         e.fellIn = e.stage;
         e.fallCause = cause;
         e.stage = kDone;
         return;
       }
-      if (e.stage == kLying && e.stageTick >= e.lieTicks) {
-        e.lyingAtSwitch = robot::isLyingFaceDown(e.sensors);
-        switchSkill(e, skill);
-        e.stage = kRising;
-        e.start = e.sensors.basePosition.head<2>();  // the line the skill begins on
-        e.along = robot::groundHeading(e.sensors);
-        if (crawl) {  // the tunnel over the robot, along the way it faces, from just behind its feet
-          addCeiling(*e.world, skill.terrain, e.start, std::atan2(e.along.y(), e.along.x()), 1.0,
-                     o.crawlDistance + 2.5, skill.terrain.width, e.friction);
+      // the card's requests, switched by the runtime when its rules allow: the measured skill once the parent has
+      // lain lieTicks, and from a stand-up the up skill at once (it takes over once the robot stands settled)
+      if (e.stage == kLying && e.stageTick >= e.lieTicks) e.wanted = &measured;
+      bool switched = false;
+      if (e.wanted && e.wanted != e.state.active) {
+        robot::SwitchRequest request;
+        request.wanted = e.wanted;
+        const robot::RouteResult routed = robot::route(set, &e.state, e.sensors, request, e.tick);
+        switched = routed.switchedTo != nullptr;
+        if (routed.switchedTo == &measured) {
+          e.lyingAtSwitch = robot::isLyingFaceDown(e.sensors);
+          e.stage = kRising;
+          e.stageTick = 0;
+          e.start = e.state.lineStart;  // the line the skill begins on
+          e.along = e.state.lineAlong;
+          if (standUp) e.wanted = &set.skills[2];
+          if (crawl) {  // the tunnel over the robot, along the way it faces, from just behind its feet
+            addCeiling(*e.world, skill.terrain, e.start, std::atan2(e.along.y(), e.along.x()), 1.0,
+                       o.crawlDistance + 2.5, skill.terrain.width, e.friction);
+          }
+        } else if (routed.switchedTo) {  // the up skill
+          if (e.standTick < 0) e.standTick = e.stageTick;
+          e.handOverTick = e.stageTick;
+          e.stage = kAfter;
+          e.stageTick = 0;
+        } else if (e.stage == kLying && e.stageTick - e.lieTicks > maxSwitchWait) {
+          e.stage = kDone;  // the measured skill never took over
         }
-      } else if (standUp && e.stage == kRising && robot::postureAllowsSwitch(skill, *up.def, e.sensors, 0)) {  // as the runtime does
-        if (e.standTick < 0) e.standTick = e.stageTick;
-        e.handOverTick = e.stageTick;
-        switchSkill(e, *up.def);
-        e.stage = kAfter;
-      } else if ((e.stage == kRising && (e.stageTick >= riseCap || e.reachTick >= 0 || e.outside)) ||
-                 (e.stage == kAfter && e.stageTick >= afterTicks)) {
+      }
+      if (!switched && ((e.stage == kRising && (e.stageTick >= riseCap || e.reachTick >= 0 || e.outside)) ||
+                        (e.stage == kAfter && e.stageTick >= afterTicks))) {
         if (e.stage == kRising && crawl && e.reachTick < 0) e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
         e.stage = kDone;
       }

@@ -13,8 +13,7 @@
 #include "ai/rewards/reward_terms.h"
 #include "engine/input/command.h"
 #include "engine/loop/clock.h"
-#include "game/session.h"
-#include "robot/skill_controller.h"
+#include "robot/skill_runtime.h"
 
 namespace ai {
 namespace {
@@ -28,8 +27,7 @@ struct Episode {
   std::mt19937_64 rng;
   robot::SkillCommand command;
   robot::SkillCommand target;  // this segment's draw; a ramped command heads for it
-  robot::PhaseClock phase;
-  std::array<float, robot::kActionSize> action{};
+  robot::SkillState state;  // the runtime: the measured skill's clock and filtered action, a lead-in's fade
   robot::Sensors sensors;
   Eigen::Vector2d start = Eigen::Vector2d::Zero();
   bool pushes = true, fallen = false;
@@ -54,10 +52,7 @@ struct Episode {
   engine::BallState ballState;
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   double bestKick = 0;
-  // a lead-in (CardDef::leadIn): the previous skill's prior fading out, and lead-ins drawn again after a fall
-  robot::PhaseClock fadePhase;
-  int fadeTicks = 0;
-  int leadInFalls = 0;
+  int leadInFalls = 0;  // a lead-in (CardDef::leadIn) drawn again after a fall
   int fallKind = -1;         // command kind active when it fell (0 forward/backward, 1 sideways, 2 turn, 3 zero)
   bool fellAfterPush = false;  // within 2 s of a push
   bool fellAfterChange = false;  // within 2 s of a command change (not counting the first command)
@@ -100,6 +95,8 @@ int commandKind(const robot::SkillCommand& c) { return c.vx != 0 ? 0 : c.vy != 0
 void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
               const robot::CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, WorkerPool& pool,
               const std::vector<HandoverStage>& leadIn) {
+  const robot::Skill measured{walk, policy};
+  const HandoverRoute route = makeHandoverRoute(leadIn, walk);
   const bool walking = mode == Mode::kWalking;
   const double downX = stairsLandingX(walk.terrain).y();  // stairs: where the way down begins
   const int n = int(eps.size());
@@ -129,19 +126,18 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
     };
     place();
     robot::SkillCommand handedOver;
+    robot::enterSkill(&e.state, measured, e.sensors, 0);
     if (walking && !leadIn.empty()) {  // enter the skill as play does (a fallen lead-in is drawn again)
-      HandoverEnd end;
-      while (!runHandover(model, e.model, *e.world, *e.robot, &e.sensors, leadIn, walk, e.rng, &end)) {
+      while (!runHandover(model, e.model, *e.world, *e.robot, &e.sensors, route, e.rng, &e.state, &handedOver)) {
         if (++e.leadInFalls == 5) {
+          robot::enterSkill(&e.state, measured, e.sensors, 0);
           e.fallen = true;
           e.fallTick = 0;
           return;
         }
         place();
-        end = HandoverEnd{};
       }
-      e.phase = end.phase, e.action = end.action, e.fadePhase = end.fadePhase, e.fadeTicks = end.fadeTicks;
-      handedOver = end.command;
+      e.state.active = &measured;  // the route's last skill, with the measured policy
     }
     if (o.ramp) e.command.vx = handedOver.vx, e.command.vy = handedOver.vy, e.command.wz = handedOver.wz;
     e.start = e.sensors.basePosition.head<2>();
@@ -159,48 +155,33 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
 
   for (int t = 0; t < ticks; ++t) {
     for (int i = 0; i < n; ++i) {
-      const Episode& e = eps[size_t(i)];
-      double s, c;
-      robot::phaseSignal(e.phase.tp, walk.prior.halfPeriodTicks, &s, &c);
-      robot::SkillCommand seen = e.command;
-      if (walk.commands.stepCommand) robot::stepIntoCommand(e.sensors, *e.world, walk.commands.stepLookBack, &seen);
-      robot::Observation ob;
-      robot::buildObservation(e.sensors, model, e.action, seen, s, c, &ob);
-      for (int k = 0; k < robot::kObservationSize; ++k) obs(k, i) = ob[size_t(k)];
+      Episode& e = eps[size_t(i)];
+      if (!e.fallen) {  // the command moves one tick toward its draw, then the skill observes it (as play's keys)
+        if (e.amplitudeRate > 0) {
+          const double step = e.amplitudeRate * engine::kTickSeconds;
+          e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
+        }
+        if (walking && o.ramp) {
+          const engine::CommandLimits keys;  // the keyboard's rates
+          engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
+                                      &e.command.vy, &e.command.wz);
+        }
+      }
+      robot::observe(model, e.state, e.sensors, *e.world, e.command, obs.col(i).data());
     }
     policy(obs, &act);
     pool.parallelFor(n, [&](int i) {
       Episode& e = eps[size_t(i)];
       if (e.fallen) return;
-      if (e.amplitudeRate > 0) {
-        const double step = e.amplitudeRate * engine::kTickSeconds;
-        e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
-      }
-      if (walking && o.ramp) {
-        const engine::CommandLimits keys;  // the keyboard's rates
-        engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
-                                    &e.command.vy, &e.command.wz);
-      }
-      robot::filterAction(walk, act.col(i).data(), &e.action);
-      e.phase.advance(walk.prior, e.command);
       robot::PdCommand pd;
-      robot::skillPdCommand(e.model, walk, e.action, e.phase, e.command, &pd);
-      if (e.fadeTicks > 0) {  // after a lead-in: the previous skill's prior fades out over 0.3 s, as in play
-        const robot::SkillDef& from = *leadIn.back().skill;
-        e.fadePhase.advance(from.prior, e.command);
-        robot::fadePrior(e.model, from, e.fadePhase, walk, e.phase, e.command, double(e.fadeTicks) / robot::kSwitchFadeTicks, &pd);
-        --e.fadeTicks;
-      }
+      robot::act(e.model, &e.state, act.col(i).data(), e.command, false, &pd);
       e.robot->setCommand(pd);
-      for (int k = 0; k < game::kSubsteps; ++k) {
-        e.robot->applyPd(*e.world);
-        e.world->step(game::kSubstepSeconds);
-      }
+      robot::stepPhysicsTick(*e.robot, *e.world);
       e.sensors = e.robot->sense(*e.world);
       if (o.kind == robot::CardDef::Kind::Stairs && o.steer > 0) {
         // a player keeping the robot square to the staircase (it runs along +X), with play's heading-hold law
-        // (game::Session::holdHeading): steer x the heading error, at most kHeadingMaxRate and the skill's wz range
-        e.command.wz = game::squareToPlusX(e.sensors.yaw, o.steer, walk.commands);
+        // (robot::shapeCommand's heading hold): steer x the heading error, at most kHeadingMaxRate and the skill's wz range
+        e.command.wz = robot::squareToPlusX(e.sensors.yaw, o.steer, walk.commands);
       }
       const int tick = t + 1;
       ++e.alive;

@@ -6,7 +6,17 @@
 
 #include <cmath>
 
+#include "tests/fixtures.h"
+
 namespace {
+
+// the keys of the shipped tree's skills, found by name as play finds them
+game::SkillKeys shippedKeys() {
+  robot::SkillSet set;
+  for (const robot::SkillDef& def : robot::loadSkillTree(robot::defaultSkillTreePath(), fixtures::robotModel()).skills)
+    set.skills.push_back({def, {}});
+  return game::skillKeys(set);
+}
 
 std::string keys(const std::vector<engine::KeyEvent>& ev) {
   std::string s;
@@ -37,14 +47,27 @@ std::string decideUntil(game::Autopilot& a, const game::Cues& c, int64_t* t, gam
 
 }  // namespace
 
+TEST(Autopilot, FindsItsSkillsKeysInTheTreeByName) {
+  const game::SkillKeys k = shippedKeys();
+  EXPECT_EQ(k.walk, '0');
+  EXPECT_EQ(k.run, '1');
+  EXPECT_EQ(k.jump, '4');
+  EXPECT_EQ(k.crawl, '9');
+  robot::SkillSet withoutJump;  // a skill that is not loaded has no key: the autopilot does without it
+  for (const robot::SkillDef& def : robot::loadSkillTree(robot::defaultSkillTreePath(), fixtures::robotModel()).skills)
+    if (def.name != "jump") withoutJump.skills.push_back({def, {}});
+  EXPECT_EQ(game::skillKeys(withoutJump).jump, '\0');
+  EXPECT_EQ(game::skillKeys(withoutJump).walk, '0');
+}
+
 TEST(Autopilot, StartsWalkingForward) {
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   EXPECT_EQ(keys(a.decide(0, {})), "tap 0;down W;");
   EXPECT_EQ(keys(a.decide(1, {})), "");
 }
 
 TEST(Autopilot, RunsFromAGhostAndSlowsBeforeTheStairs) {
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ghost = 3.0;
@@ -70,7 +93,7 @@ TEST(Autopilot, RunsFromAGhostAndSlowsBeforeTheStairs) {
 }
 
 TEST(Autopilot, FlatGroundBeforeTheFirstStepDoesNotEndTheStairs) {
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.stepAhead = 1.9;
@@ -85,7 +108,7 @@ TEST(Autopilot, FlatGroundBeforeTheFirstStepDoesNotEndTheStairs) {
 }
 
 TEST(Autopilot, LinesUpLiesDownCrawlsThroughATunnelAndStandsUpWellPastIt) {
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ceilingAhead = 1.5;
@@ -114,7 +137,7 @@ TEST(Autopilot, LinesUpLiesDownCrawlsThroughATunnelAndStandsUpWellPastIt) {
 namespace {
 // an autopilot walking under a box: it asks for the jump
 game::Autopilot jumpingUnderABox(game::Cues* c) {
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   c->boxOverhead = true;
   EXPECT_EQ(keys(a.decide(1, *c)), "tap 4;up W;");
@@ -145,7 +168,7 @@ TEST(Autopilot, JumpsOnceUnderABoxThenWalksOnEvenWithoutAHit) {
 }
 
 TEST(Autopilot, WalksUnderABoxWhenNoJumpIsLoaded) {
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.boxOverhead = true;
@@ -155,7 +178,7 @@ TEST(Autopilot, WalksUnderABoxWhenNoJumpIsLoaded) {
 }
 
 TEST(Autopilot, LinesUpWithTheBallThenStepsUpToItAndKicks) {
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ballAhead = 0.75, c.ballY = -0.12;  // the kick wants the ball 0.12 m right of the pelvis: pelvis y 0
@@ -191,7 +214,7 @@ TEST(Autopilot, LinesUpWithTheBallThenStepsUpToItAndKicks) {
 }
 
 TEST(Autopilot, KicksAfterSevenSecondsIfTheOneLegStandNeverTookOver) {
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ballAhead = 0.32, c.ballY = -0.12, c.skill = "walk";  // at the spot, facing +X
@@ -207,7 +230,7 @@ TEST(Autopilot, KicksAfterSevenSecondsIfTheOneLegStandNeverTookOver) {
 TEST(Autopilot, KicksOnlyFromTheCardsSpot) {
   // at the ball after the approach, but 0.1 m left of the line-up (the card's spot: 0.12 m right of the pelvis,
   // within 6 cm): no one-leg stand but a new line-up; and a ball nudged during the stand: no kick, the walk again
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ballAhead = 0.75, c.ballY = -0.12;  // pelvis at y 0 already: lined up
@@ -229,7 +252,7 @@ TEST(Autopilot, KicksOnlyFromTheCardsSpot) {
 TEST(Autopilot, AfterTheStandItKicksTurnedUpTo0p25RadWithTheBallWhereTheCardPutsItInItsFrame) {
   // the one-leg stand turned the robot 0.2 rad left: the ball, 0.30 m ahead and 0.12 m right of the pelvis in its
   // heading frame, is at (0.30 cos 0.2 + 0.12 sin 0.2, 0.30 sin 0.2 - 0.12 cos 0.2) = (0.318, -0.058) in the world's
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ballAhead = 0.32, c.ballY = -0.12;  // at the spot, facing +X
@@ -253,7 +276,7 @@ TEST(Autopilot, AfterTheStandItKicksTurnedUpTo0p25RadWithTheBallWhereTheCardPuts
 
 TEST(Autopilot, ABallLeftBesideItIsReachedAgainFromBehind) {
   // a kick that stays up and sends the ball sideways: the ball lies beside the pelvis, 0.3 m to the right
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ballAhead = 0.0, c.ballY = -0.3;
@@ -272,7 +295,7 @@ TEST(Autopilot, ABallLeftBesideItIsReachedAgainFromBehind) {
 TEST(Autopilot, ALineUpThatWalkedPastTheBallBacksOffInsteadOfStepping) {
   // the side steps of a line-up drift forward: lined up, the ball is 0.4 m behind the pelvis. Short steps back
   // (the approach's) cannot get behind it; it steps clear and backs up as for a ball left beside it
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ballAhead = 0.75, c.ballY = -0.12;  // pelvis at y 0 already: lined up
@@ -291,7 +314,7 @@ TEST(Autopilot, ABallAgainstTheLeftWallIsPushedOnWithTheLeftFootInsteadOfKicked)
   // the ball rests against the left wall (its inner face at y = 1.0, the ball's radius 0.11 m): the kick's spot, the
   // pelvis 0.12 m left of the ball, is out of the 0.75 m the line-up goes; it lines up with the ball in front of
   // the left foot instead, facing 0.1 rad toward the wall, and walks into it
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ballAhead = 0.75, c.ballY = 0.89;
@@ -307,7 +330,7 @@ TEST(Autopilot, ABallAgainstTheLeftWallIsPushedOnWithTheLeftFootInsteadOfKicked)
   a.decide(t++, c);
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Walk);
 
-  game::Autopilot b;  // 0.24 m nearer the middle: the kick's line-up, the ball 0.10 m right of the pelvis at 0.75
+  game::Autopilot b(shippedKeys());  // 0.24 m nearer the middle: the kick's line-up, the ball 0.10 m right of the pelvis at 0.75
   b.decide(0, {});
   c = {};
   c.ballAhead = 0.75, c.ballY = 0.65, c.y = 0.75;
@@ -317,7 +340,7 @@ TEST(Autopilot, ABallAgainstTheLeftWallIsPushedOnWithTheLeftFootInsteadOfKicked)
 }
 
 TEST(Autopilot, AfterARespawnItReleasesEveryKeyAndWalksOn) {
-  game::Autopilot a;
+  game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
   c.ghost = 3.0;

@@ -15,11 +15,11 @@ using fixtures::kSource;
 
 // a small tree: walk -> {run, squat -> jump}; every policy outputs the same constant action: zero, or a
 // balanced crouch (hip pitch -a, knee +2a, ankle pitch -a on both legs)
-game::SkillSet tree(float crouch) {
+robot::SkillSet tree(float crouch) {
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   robot::SkillDef base = *shipped.find("walk");
   base.prior.kind = robot::PriorDef::Kind::None;  // no gait: targets move only with the action
-  game::SkillSet set;
+  robot::SkillSet set;
   auto add = [&](const std::string& name, const std::string& parent, int key) {
     robot::SkillDef d = base;
     d.name = name;
@@ -41,15 +41,15 @@ game::SkillSet tree(float crouch) {
   return set;
 }
 
-std::string hop(const game::SkillSet& s, const std::string& from, const std::string& to) {
-  const game::SkillRuntime* h = s.nextHop(*s.byName(from), *s.byName(to));
+std::string hop(const robot::SkillSet& s, const std::string& from, const std::string& to) {
+  const robot::Skill* h = s.nextHop(*s.byName(from), *s.byName(to));
   return h ? h->def.name : "-";
 }
 
 }  // namespace
 
 TEST(SkillSet, RoutesGoUpToTheCommonAncestorThenDown) {
-  const game::SkillSet s = tree(0.0f);
+  const robot::SkillSet s = tree(0.0f);
   EXPECT_EQ(hop(s, "walk", "run"), "run");
   EXPECT_EQ(hop(s, "run", "walk"), "walk");
   EXPECT_EQ(hop(s, "run", "jump"), "walk");
@@ -62,7 +62,7 @@ TEST(SkillSet, RoutesGoUpToTheCommonAncestorThenDown) {
 TEST(SkillSet, AGroundSkillGoesUpThroughItsUpSkill) {
   // walk -> prone -> {crawl, standup}; prone's way up is standup (it cannot switch back to walk lying down) and
   // standup's is walk: from crawl, key 0 runs prone, standup, then walk
-  game::SkillSet s = tree(0.0f);
+  robot::SkillSet s = tree(0.0f);
   auto add = [&](const std::string& name, const std::string& parent, const std::string& up, int key) {
     robot::SkillDef d = s.skills.front().def;
     d.name = name, d.parent = parent, d.up = up, d.key = key;
@@ -70,7 +70,7 @@ TEST(SkillSet, AGroundSkillGoesUpThroughItsUpSkill) {
   };
   add("prone", "walk", "standup", 7);
   add("crawl", "prone", "", 8);
-  game::SkillSet withoutStandup = s;
+  robot::SkillSet withoutStandup = s;
   add("standup", "prone", "walk", 9);
   EXPECT_EQ(hop(s, "crawl", "walk"), "prone");
   EXPECT_EQ(hop(s, "prone", "walk"), "standup");
@@ -92,25 +92,25 @@ TEST(SkillSet, AGroundSkillGoesUpThroughItsUpSkill) {
 
 TEST(Session, RoutedRequestSwitchesOneEdgeAtATime) {
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
-  const game::SkillSet skills = tree(0.0f);
+  const robot::SkillSet skills = tree(0.0f);
   game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &skills});
   s.step(engine::parseKeyScript("0.00 tap 1\n", "k"));  // run, via nothing: the first skill is taken directly
   for (int i = 0; i < 20; ++i) s.step({});
   EXPECT_EQ(s.activeSkillName(), "run");
   s.step({{s.tick(), engine::KeyAction::kTap, '4'}});  // jump: run -> walk -> squat -> jump
-  for (int i = 0; i < 3 * game::kMinHopTicks + 5; ++i) s.step({});
+  for (int i = 0; i < 3 * robot::kMinHopTicks + 5; ++i) s.step({});
   ASSERT_EQ(s.telemetry().switches.size(), 4u);
   const auto& sw = s.telemetry().switches;
   EXPECT_EQ(sw[1].from + ">" + sw[1].to, "run>walk");
   EXPECT_EQ(sw[2].from + ">" + sw[2].to, "walk>squat");
   EXPECT_EQ(sw[3].from + ">" + sw[3].to, "squat>jump");
-  EXPECT_EQ(sw[2].tick - sw[1].tick, game::kMinHopTicks);  // an intermediate skill runs its minimum time
+  EXPECT_EQ(sw[2].tick - sw[1].tick, robot::kMinHopTicks);  // an intermediate skill runs its minimum time
   EXPECT_EQ(s.activeSkillName(), "jump");
 }
 
 TEST(Session, SwitchKeepsTheJointTargetsContinuous) {
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
-  const game::SkillSet skills = tree(0.3f);  // both skills hold the same crouch
+  const robot::SkillSet skills = tree(0.3f);  // both skills hold the same crouch
   game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &skills});
   s.step(engine::parseKeyScript("0.00 tap 0\n", "k"));
   for (int i = 0; i < 100; ++i) s.step({});  // the 0.8 low-pass has settled (0.8^100 ~ 2e-10)
@@ -133,7 +133,7 @@ TEST(Session, SwitchFadesTheOldPriorOutOverThreeTenthsOfASecond) {
   // switched at the left knee's peak (+2 dh = 1.04 rad), the targets move there over 30 ticks, not in one
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
-  game::SkillSet set;
+  robot::SkillSet set;
   const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
   robot::SkillDef walk = *shipped.find("walk");
   walk.prior.standStill = false;  // stepping whatever the command
@@ -151,7 +151,7 @@ TEST(Session, SwitchFadesTheOldPriorOutOverThreeTenthsOfASecond) {
   s.step({{s.tick(), engine::KeyAction::kTap, '3'}});
   ASSERT_EQ(s.activeSkillName(), "squat");
   double largestStep = 0;
-  for (int i = 0; i < game::kSwitchFadeTicks + 5; ++i) {
+  for (int i = 0; i < robot::kSwitchFadeTicks + 5; ++i) {
     const robot::JointArray now = s.robot().command().target;
     for (size_t j = 0; j < now.size(); ++j) largestStep = std::max(largestStep, std::abs(now[j] - previous[j]));
     previous = now;
@@ -175,7 +175,7 @@ TEST(Session, AStillSkillWaitsUntilTheCommandHasRampedToZeroAndTheRobotRests) {
   robot::SkillDef squat = *shipped.find("squat");
   ASSERT_TRUE(robot::isStillSkill(squat));
   ASSERT_FALSE(robot::isStillSkill(walk));
-  game::SkillSet set;
+  robot::SkillSet set;
   set.skills.push_back({walk, zero});
   set.skills.push_back({squat, zero});
   game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
@@ -204,7 +204,7 @@ TEST(Session, ASlowerSkillTakesOverOnceTheCommandHasRampedToItsTopSpeed) {
   ASSERT_DOUBLE_EQ(walk.commands.vx.hi, 1.2);
   ASSERT_TRUE(robot::switchWaits(run, walk));
   ASSERT_TRUE(robot::switchWaits(walk, run));  // the walk may back up; the run never does
-  game::SkillSet set;
+  robot::SkillSet set;
   set.skills.push_back({walk, zero});
   set.skills.push_back({run, zero});
   game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &set});
@@ -236,7 +236,7 @@ TEST(Session, ARunWithAPhaseWindowTakesOverWhenTheWalksGaitReachesIt) {
   ASSERT_EQ(walk.prior.halfPeriodTicks, 40);
   run.prior.kind = robot::PriorDef::Kind::None;
   run.switchInPhase = {0.5, 0.82};
-  game::SkillSet set;
+  robot::SkillSet set;
   set.skills.push_back({walk, zero});
   set.skills.push_back({run, zero});
   for (const int asked : {10, 50}) {
@@ -301,7 +301,7 @@ TEST(Switching, ASlowerSkillWaitsForThePelvisToSlowToItsTopSpeed) {
 TEST(Session, KeyZeroWhileLyingStandsUpThenWalks) {
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   auto walk = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(kSource + "/assets/skills/walk.onnx"));
-  game::SkillSet skills;
+  robot::SkillSet skills;
   skills.skills.push_back({*shipped.find("walk"), [walk](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { walk->act(o, a); }});
   for (const char* name : {"prone", "standup"})
     skills.skills.push_back({*shipped.find(name), [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); }});
@@ -332,7 +332,7 @@ TEST(Session, KeyZeroWhileLyingStandsUpThenWalks) {
 TEST(Session, AStandUpStillLyingAfterTenSecondsCountsAsAFall) {
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
-  game::SkillSet skills;
+  robot::SkillSet skills;
   skills.skills.push_back({*shipped.find("walk"), zero});
   skills.skills.push_back({*shipped.find("prone"), zero});
   robot::SkillDef standup = *shipped.find("standup");
@@ -360,7 +360,7 @@ TEST(Telemetry, FallsBySkillReadMostFirst) {
 // velocity commands back at 0, and the skill the keys still ask for is entered from there, as any request is
 TEST(Session, ARespawnHandsTheRobotToTheRootAtRest) {
   const levels::Level mario = levels::loadLevel(kSource + "/levels/mario");
-  const game::SkillSet skills = tree(4.0f);  // a deep constant crouch: every skill sinks the pelvis below the fall height
+  const robot::SkillSet skills = tree(4.0f);  // a deep constant crouch: every skill sinks the pelvis below the fall height
   game::Session s(mario, fixtures::robotModel(), game::SessionOptions{1, &skills});
   s.step(engine::parseKeyScript("0.00 tap 1\n0.00 down W\n", "k"));  // the run, forward
   while (s.telemetry().respawns.empty() && s.tick() < 500) s.step({});
@@ -382,7 +382,7 @@ TEST(Session, ASkillFromTheDefaultPoseAskedForAtTheSpawnWaitsAHopsTime) {
   // the standing controller holds the fresh spawn for kMinHopTicks before a key-pose skill (the jump) starts: asked
   // for at the first tick, the jump fell at its second landing in 20 of 20 seeds; the walk starts at once
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
-  game::SkillSet set;
+  robot::SkillSet set;
   for (const char* name : {"walk", "squat", "jump"})
     set.skills.push_back({*shipped.find(name), [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); }});
   ASSERT_TRUE(robot::startsFromDefaultPose(set.byName("jump")->def));
@@ -394,7 +394,7 @@ TEST(Session, ASkillFromTheDefaultPoseAskedForAtTheSpawnWaitsAHopsTime) {
     while (s.telemetry().switches.empty() && s.tick() < 200) s.step({});
     ASSERT_EQ(s.telemetry().switches.size(), 1u) << key;
     EXPECT_EQ(s.telemetry().switches[0].from, "stand");
-    EXPECT_EQ(s.telemetry().switches[0].tick, key[0] == '4' ? game::kMinHopTicks : 0) << key;
+    EXPECT_EQ(s.telemetry().switches[0].tick, key[0] == '4' ? robot::kMinHopTicks : 0) << key;
   }
 }
 
@@ -412,7 +412,7 @@ TEST(Session, ACrawlThatTrainedSteeredIsSteeredBackToItsLineInPlay) {
     crawl.commands.wz = {-0.05, 0.05};
     crawl.lineSteer = gain;
     double observedWz = 0;
-    game::SkillSet skills;
+    robot::SkillSet skills;
     skills.skills.push_back({*shipped.find("walk"), [walk](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { walk->act(o, a); }});
     skills.skills.push_back({*shipped.find("prone"), [prone](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { prone->act(o, a); }});
     skills.skills.push_back({crawl, [&](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) {

@@ -4,7 +4,7 @@
 
 #include "engine/loop/clock.h"
 #include "engine/physics/physics_world.h"
-#include "game/session.h"
+#include "robot/skill_runtime.h"
 #include "robot/robot.h"
 #include "robot/skill_controller.h"
 #include "tests/fixtures.h"
@@ -20,9 +20,9 @@ const robot::SkillTree& shippedTree() {
 // one control tick of given PD targets: the physics substeps with PD every substep
 void stepPd(const robot::PdCommand& pd, robot::Robot& r, engine::PhysicsWorld& world) {
   r.setCommand(pd);
-  for (int k = 0; k < game::kSubsteps; ++k) {
+  for (int k = 0; k < robot::kSubsteps; ++k) {
     r.applyPd(world);
-    world.step(game::kSubstepSeconds);
+    world.step(robot::kSubstepSeconds);
   }
 }
 
