@@ -20,10 +20,7 @@ const robot::SkillTree& shippedTree() {
 // one control tick of given PD targets: the physics substeps with PD every substep
 void stepPd(const robot::PdCommand& pd, robot::Robot& r, engine::PhysicsWorld& world) {
   r.setCommand(pd);
-  for (int k = 0; k < robot::kSubsteps; ++k) {
-    r.applyPd(world);
-    world.step(robot::kSubstepSeconds);
-  }
+  robot::stepPhysicsTick(r, world);
 }
 
 // one control tick of the skill's prior alone (zero policy output): PD targets, then the physics substeps
