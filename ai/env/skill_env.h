@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "ai/env/vec_env.h"
-#include "ai/env/worker_pool.h"
+#include "engine/core/worker_pool.h"
 #include "ai/rewards/reward_terms.h"
 #include "robot/skill_runtime.h"
 
@@ -129,7 +129,7 @@ class SkillEnv final : public VecEnv {
   void makeRoutes();
   std::vector<WeightedTerm> terms_;
   SkillEnvOptions options_;
-  WorkerPool pool_;
+  engine::WorkerPool pool_;
   std::vector<std::unique_ptr<Env>> envs_;
   int lesson_ = 0;
   double smoothed_ = 0;     // exponential average (from 0, not bias-corrected) of this lesson's episode scores

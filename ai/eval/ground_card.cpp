@@ -9,7 +9,7 @@
 #include <random>
 
 #include "ai/env/terrain.h"
-#include "ai/env/worker_pool.h"
+#include "engine/core/worker_pool.h"
 #include "engine/core/error.h"
 #include "engine/loop/clock.h"
 #include "robot/skill_runtime.h"
@@ -85,7 +85,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
   if (!parent.def || !parent.policy || (standUp && (!up.def || !up.policy)))
     throw engine::Error("ground card of '" + skill.name + "': needs the models of its parent" +
                         (standUp ? std::string(" and of its up skill") : std::string()));
-  WorkerPool pool(run.threads);
+  engine::WorkerPool pool(run.threads);
   std::mt19937_64 seeder(run.seed);
   const int n = o.episodes;
   std::vector<Episode> eps(static_cast<size_t>(n));

@@ -7,7 +7,7 @@
 #include <memory>
 #include <random>
 
-#include "ai/env/worker_pool.h"
+#include "engine/core/worker_pool.h"
 #include "ai/env/ball_task.h"
 #include "ai/env/terrain.h"
 #include "ai/rewards/reward_terms.h"
@@ -93,7 +93,7 @@ int commandKind(const robot::SkillCommand& c) { return c.vx != 0 ? 0 : c.vy != 0
 
 // runs a batch of episodes of `ticks` ticks; standing episodes keep a zero command and no pushes
 void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
-              const robot::CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, WorkerPool& pool,
+              const robot::CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, engine::WorkerPool& pool,
               const std::vector<HandoverStage>& leadIn) {
   const robot::Skill measured{walk, policy};
   const HandoverRoute route = makeHandoverRoute(leadIn, walk);
@@ -272,7 +272,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
 CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
                            const CardRun& run, const std::vector<HandoverStage>& leadIn) {
   const robot::CardDef& o = run.card;
-  WorkerPool pool(run.threads);
+  engine::WorkerPool pool(run.threads);
   std::mt19937_64 seeder(run.seed);
 
   std::vector<Episode> walking(size_t(o.episodes));
@@ -486,7 +486,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
 
 std::vector<SweepRow> runSpeedSweep(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
                                     const std::vector<robot::SkillCommand>& commands, double seconds, int threads) {
-  WorkerPool pool(threads);
+  engine::WorkerPool pool(threads);
   std::vector<Episode> eps(commands.size());
   for (size_t i = 0; i < eps.size(); ++i) {
     eps[i].rng.seed(i + 1);  // only the spawn heading is random

@@ -1,7 +1,7 @@
 // worker_pool.cpp — condition-variable pool with contiguous blocks per thread.
-#include "ai/env/worker_pool.h"
+#include "engine/core/worker_pool.h"
 
-namespace ai {
+namespace engine {
 
 WorkerPool::WorkerPool(int threads) {
   for (int w = 1; w < threads; ++w) workers_.emplace_back([this, w] { workerLoop(w); });
@@ -63,4 +63,4 @@ void WorkerPool::workerLoop(int worker) {
   }
 }
 
-}  // namespace ai
+}  // namespace engine

@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-namespace ai {
+namespace engine {
 
 class WorkerPool {
  public:
@@ -37,4 +37,4 @@ class WorkerPool {
   bool stop_ = false;
 };
 
-}  // namespace ai
+}  // namespace engine
