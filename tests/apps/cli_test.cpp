@@ -617,20 +617,34 @@ TEST(Cli, BranchWithoutParentModelIsAnError) {
   EXPECT_NE(r.out.find("train walk first"), std::string::npos) << r.out;
 }
 
-TEST(Cli, EveryShippedCardReproducesItsRecord) {
+// the skills with a shipped model in assets/skills (NAME.onnx), sorted
+std::vector<std::string> shippedSkills() {
+  std::vector<std::string> skills;
+  for (const auto& f : fs::directory_iterator(kSource + "/assets/skills"))
+    if (f.path().extension() == ".onnx") skills.push_back(f.path().stem());
+  std::sort(skills.begin(), skills.end());
+  return skills;
+}
+
+class ShippedCard : public testing::TestWithParam<std::string> {};
+
+TEST_P(ShippedCard, ReproducesItsRecord) {
   // retention: a skill's card, re-run with its seed on the shipped model, must equal the record kept when the
-  // model was shipped (training other skills never touches it; same binary, same numbers)
-  const std::string dir = kSource + "/assets/skills";
-  int checked = 0;
-  for (const auto& f : fs::directory_iterator(dir)) {
-    const std::string name = f.path().filename();
-    if (name.size() < 10 || name.substr(name.size() - 9) != ".card.txt") continue;
-    const std::string skill = name.substr(0, name.size() - 9);
-    const CliRun r = run("eval " + skill);
-    EXPECT_NE(r.out.find("identical to the card recorded"), std::string::npos) << skill << ":\n" << r.out;
-    ++checked;
-  }
-  EXPECT_GE(checked, 1) << "no card records in assets/skills";
+  // model was shipped (training other skills never touches it; same binary, same numbers, whatever the thread
+  // count). One test per skill on one thread, so that ctest -j2 runs two cards side by side on the two cores
+  const std::string skill = GetParam();
+  ASSERT_TRUE(fs::exists(kSource + "/assets/skills/" + skill + ".card.txt"))
+      << skill << " is shipped without its card record (treelearn ship " << skill << " writes it)";
+  const CliRun r = run("eval " + skill + " --threads 1");
+  EXPECT_NE(r.out.find("identical to the card recorded"), std::string::npos) << skill << ":\n" << r.out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, ShippedCard, testing::ValuesIn(shippedSkills()),
+                         [](const testing::TestParamInfo<std::string>& skill) { return skill.param; });
+
+TEST(Cli, ThereAreShippedModelsForTheCardTestsToCheck) {
+  // the cards above run over assets/skills/*.onnx: an empty list would check nothing
+  EXPECT_FALSE(shippedSkills().empty()) << "no models in assets/skills";
 }
 
 TEST(Cli, TreeShowsEverySkillWithItsKeyAndCard) {
