@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "ai/ppo/checkpoint.h"
 #include "ai/ppo/ppo.h"
 #include "robot/skill_runtime.h"
 #include "robot/skill_tree.h"
@@ -45,7 +46,9 @@ struct TrainOptions {
   double learningRate = std::nan("");  ///< override of the [ppo] initial learning rate (fine-tuning)
   bool exportOnly = false;
   std::string exportFrom = "best";  ///< --export-only source: best (best.bin) or last (checkpoint.bin)
-  std::string modelsDir;  ///< where the ONNX and policy files go (default: the tree file's folder)
+  /// where the other skills' models are read from (the parent's policy, handover and card drivers; default: the
+  /// tree file's folder). The run's own model is written into runDir, never here.
+  std::string modelsDir;
 };
 
 /// `treelearn eval` options.
@@ -60,6 +63,14 @@ struct EvalOptions {
   bool priorOnly = false;  ///< the card with zero network output: what the skill's prior does by itself
   std::string samplePolicy;  ///< policy file: the card with actions drawn from its Gaussian, as training acts
   std::string only;  ///< switches: only the switches into or out of this skill
+};
+
+/// `treelearn ship` options.
+struct ShipOptions {
+  std::string skill;
+  std::string runDir;  ///< the run folder holding SKILL.onnx and SKILL.policy.bin (default runs/SKILL)
+  bool force = false;  ///< install even when the card fails
+  int threads = 2;
 };
 
 /// `treelearn eval switches` options.
@@ -85,12 +96,19 @@ int runTree();
 /// Where `treelearn eval SKILL` keeps the shipped model's card: assets/skills/SKILL.card.txt.
 std::string cardRecordPath(const robot::SkillTree& tree, const robot::SkillDef& skill);
 int runExport(const TrainOptions& options);
+/// `treelearn ship SKILL --from RUN`: runs the skill's card on RUN's exported model and, when it passes (or with
+/// force), installs RUN/SKILL.onnx and RUN/SKILL.policy.bin into the tree's folder and records the card there.
+int runShip(const ShipOptions& options);
 int runEval(const EvalOptions& options);
 /// `treelearn eval all`: every skill's card, then the switches; exit 0 when everything passes.
 int runEvalAll(const EvalOptions& options);
 
-/// Writes a skill's ONNX file (with DESIGN.md §3 metadata) and its full policy state (for branches).
+/// Writes a skill's ONNX file (with DESIGN.md §3 metadata) and its full policy state (for branches), the latter
+/// with where it came from (iteration, env steps, card score).
 void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, const ai::PolicyState& policy,
-                 const std::string& onnxPath, const std::string& policyPath, int64_t envSteps, uint64_t seed);
+                 const std::string& onnxPath, const std::string& policyPath, const ai::PolicyInfo& info, uint64_t seed);
+/// Where `train` exports a skill's model and policy file in its run folder: RUN/SKILL.onnx, RUN/SKILL.policy.bin.
+std::string exportedModelPath(const std::string& runDir, const robot::SkillDef& skill);
+std::string exportedPolicyPath(const std::string& runDir, const robot::SkillDef& skill);
 
 }  // namespace apps

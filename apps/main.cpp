@@ -1,5 +1,5 @@
-// main.cpp — the treelearn command line: play, replay, bench (train/eval/tree arrive with the learning
-// issues). Parses arguments with CLI11, turns engine::Error into "error: ..." and exit code 2.
+// main.cpp — the treelearn command line: play, replay, bench, train, eval, ship, tree. Parses arguments with
+// CLI11, turns engine::Error into "error: ..." and exit code 2.
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
 
@@ -306,7 +306,7 @@ int main(int argc, char** argv) {
                "Run 'treelearn <command> --help' for a command's options."};
   app.require_subcommand(1);
   std::string treeFile;
-  app.add_option("--tree", treeFile, "Skill tree file for train, eval, tree and play (default assets/skills/tree.toml); "
+  app.add_option("--tree", treeFile, "Skill tree file for train, eval, ship, tree and play (default assets/skills/tree.toml); "
                                      "give it before the command")
       ->check(CLI::ExistingFile);
 
@@ -341,14 +341,14 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
 
   apps::TrainOptions train;
-  CLI::App* trainCmd = app.add_subcommand("train", "Train a skill with PPO (a branch starts from its parent)");
+  CLI::App* trainCmd = app.add_subcommand("train", "Train a skill with PPO (a branch starts from its parent); the model is exported into the run folder (install it with ship)");
   trainCmd->add_option("skill", train.skill, "Skill name from assets/skills/tree.toml")->required();
   trainCmd->add_option("--steps", train.steps, "Environment steps (default: the skill's budget)")->check(CLI::Range(int64_t(1), int64_t(10000000000)));
   trainCmd->add_flag("--resume", train.resume, "Continue the run in the run folder exactly where its checkpoint stopped");
   trainCmd->add_option("--threads", train.threads, "Threads stepping the environments")->check(CLI::Range(1, 64));
   trainCmd->add_option("--envs", train.envs, "Parallel environments (must divide the PPO buffer)")->check(CLI::Range(1, 4096));
   trainCmd->add_option("--seed", train.seed, "Run seed (default 1)");
-  trainCmd->add_option("--run-dir", train.runDir, "Run folder for log.csv, checkpoint.bin, best.bin (default runs/SKILL)");
+  trainCmd->add_option("--run-dir", train.runDir, "Run folder for log.csv, checkpoint.bin, best.bin and the exported SKILL.onnx and SKILL.policy.bin (default runs/SKILL)");
   trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")->check(CLI::Range(0, 100000));
   trainCmd->add_option("--eval-episodes", train.evalEpisodes, "Episodes per report-card evaluation during training (default 10; more = a steadier choice of the best policy)")->check(CLI::Range(1, 1000));
   trainCmd->add_option("--eval-confirm", train.evalConfirm, "Episodes of a second card, on other episodes, run when an evaluation beats the best confirmed so far; its score then picks best.bin (default 0: none; the evaluations always replay the same episodes, so their best reads high)")->check(CLI::Range(0, 1000));
@@ -359,10 +359,19 @@ int main(int argc, char** argv) {
   trainCmd->add_flag("--zero-output", train.zeroOutput, "Branch init: zero the actor's output layer, so the branch starts as its own prior alone (hidden layers, critic, normaliser and log-std stay the parent's)");
   trainCmd->add_option("--init-from", train.initFrom, "Start from this policy file (e.g. assets/skills/walk.policy.bin) to fine-tune");
   trainCmd->add_option("--learning-rate", train.learningRate, "Initial learning rate instead of [ppo]'s (e.g. 1e-4 to fine-tune with --init-from)");
-  trainCmd->add_option("--models-dir", train.modelsDir, "Folder the parent's policy is read from and the ONNX and policy files are written to (default assets/skills)");
+  trainCmd->add_option("--models-dir", train.modelsDir, "Folder the other skills' models are read from: the parent's policy, handover and card drivers (default: the tree file's folder, assets/skills); nothing is written there");
   trainCmd->add_option("--export-from", train.exportFrom, "With --export-only: best (best.bin) or last (checkpoint.bin)")
       ->check(CLI::IsMember({"best", "last"}));
-  trainCmd->add_flag("--export-only", train.exportOnly, "Only export the run's best policy to assets/skills/ (no training)");
+  trainCmd->add_flag("--export-only", train.exportOnly, "Only export the run's policy (--export-from) to the run folder's SKILL.onnx and SKILL.policy.bin (no training)");
+
+  apps::ShipOptions ship;
+  CLI::App* shipCmd = app.add_subcommand(
+      "ship", "Install a trained model: run its report card and, if it passes, copy RUN/SKILL.onnx and RUN/SKILL.policy.bin "
+              "into the tree's folder (assets/skills) and record the card there; exit 1 and install nothing if it fails");
+  shipCmd->add_option("skill", ship.skill, "Skill name from the tree file")->required();
+  shipCmd->add_option("--from", ship.runDir, "Run folder holding the exported SKILL.onnx and SKILL.policy.bin, as train or train --export-only wrote them (default runs/SKILL)");
+  shipCmd->add_flag("--force", ship.force, "Install even if the card fails (its record then says CARD FAILED)");
+  shipCmd->add_option("--threads", ship.threads, "Threads for the card")->check(CLI::Range(1, 64));
 
   CLI::App* treeCmd = app.add_subcommand("tree", "Show the skill tree: keys, parents, model hashes, card results");
 
@@ -391,6 +400,7 @@ int main(int argc, char** argv) {
     if (*replayCmd) return cmdReplay(replay);
     if (*benchCmd) return apps::runBench(bench);
     if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
+    if (*shipCmd) return apps::runShip(ship);
     if (*evalCmd && eval.skill != "switches" && !eval.only.empty())
       throw engine::Error("--only picks the switches of one skill: it goes with eval switches");
     if (*evalCmd && eval.skill == "switches" && (eval.priorOnly || eval.sweep || !eval.model.empty() || !eval.samplePolicy.empty()))

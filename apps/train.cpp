@@ -1,6 +1,7 @@
-// train.cpp — `treelearn train SKILL` and `treelearn eval SKILL`: wires the skill tree, the training
-// environment, the PPO trainer, the report card and the ONNX export together. Prints progress; files
-// are written atomically by the layers below.
+// train.cpp — `treelearn train SKILL`, `treelearn eval SKILL` and `treelearn ship SKILL`: wires the skill tree,
+// the training environment, the PPO trainer, the report card and the ONNX export together. Training exports into
+// its run folder; only `ship` (after the card) writes the models in the tree's folder. Prints progress; files are
+// written atomically by the layers below.
 #include <csignal>
 #include <cmath>
 #include <cstdio>
@@ -122,6 +123,98 @@ std::string cardText(const ai::CardResult& card) {
   return out + (card.pass ? "  CARD PASSED\n" : "  CARD FAILED\n");
 }
 
+// the skill's ONNX model at path, checked as play and eval check it (sizes, controller settings of the tree entry)
+std::unique_ptr<ai::LoadedPolicy> loadSkillModel(const Loaded& l, const std::string& path) {
+  auto policy = std::make_unique<ai::LoadedPolicy>(ai::loadPolicyOnnx(path));
+  if (policy->observationSize() != robot::kObservationSize || policy->actionSize() != robot::kActionSize)
+    throw engine::Error(path + ": network sizes do not match the shared layout");
+  ai::checkModelMatchesSkill(*policy, path, l.model, *l.skill, l.tree.path);
+  return policy;
+}
+
+// the card's first line: what it runs and on which model (`modelShown`, `hash`)
+std::string cardHead(const Loaded& l, const ai::CardRun& run, const std::string& modelShown, const std::string& hash) {
+  const robot::CardDef& def = l.skill->card;
+  const std::string& name = l.skill->name;
+  const char* onnxPath = modelShown.c_str();
+  char head[1024];  // room for a long model path
+  if (def.kind == robot::CardDef::Kind::StandUp)
+    std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s (model %s, hash %s), "
+                  "then %s takes over once it stands\n", name.c_str(), run.card.episodes, l.skill->parent.c_str(),
+                  def.lieSeconds.lo, def.lieSeconds.hi, name.c_str(), onnxPath, hash.c_str(), l.skill->up.c_str());
+  else if (def.kind == robot::CardDef::Kind::PushUp)
+    std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s for %g s (model %s, hash %s)\n",
+                  name.c_str(), run.card.episodes, l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi,
+                  name.c_str(), def.episodeSeconds, onnxPath, hash.c_str());
+  else if (def.kind == robot::CardDef::Kind::Crawl) {
+    char steer[160] = "";
+    if (def.steer > 0)
+      std::snprintf(steer, sizeof steer, ", steered toward its axis as a player would (wz = -%g x the error, within %g rad/s)",
+                    def.steer, l.skill->commands.wz.hi);
+    std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s at %g-%g m/s through a "
+                  "tunnel %g m wide, its ceiling %g m up%s (model %s, hash %s)\n", name.c_str(), run.card.episodes,
+                  l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi, name.c_str(), def.vx.lo, def.vx.hi,
+                  l.skill->terrain.width, l.skill->terrain.ceilingHeight, steer, onnxPath, hash.c_str());
+  } else {
+    std::string leadIn;  // "walk 1-3 s, to rest, one_leg 0-2 s, then " for a lead_in card
+    if (def.leadIn) {
+      char b[160];
+      const std::vector<const robot::SkillDef*> route = handoverRoute(l.tree, *l.skill);
+      for (size_t k = 0; k < route.size(); ++k) {
+        const robot::Range& t = k == 0 ? l.skill->handoverSeconds : l.skill->handoverViaSeconds;
+        std::snprintf(b, sizeof b, "%s%s %g-%g s", k == 0 ? "each entered as in play: " : ", ", route[k]->name.c_str(), t.lo, t.hi);
+        leadIn += b;
+      }
+      leadIn = " (" + leadIn + ", then " + name + ")";
+    }
+    if (def.kind == robot::CardDef::Kind::Stairs && def.steer > 0) {  // the player's steering, as the crawl card says it
+      char b[160];
+      std::snprintf(b, sizeof b, ", steered square to the stairs as play's heading hold does (wz = -%g x the heading off them, within %g rad/s)",
+                    def.steer, robot::headingHoldLimit(l.skill->commands));
+      leadIn += b;
+    }
+    std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s%s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
+                  name.c_str(), run.card.episodes, def.episodeSeconds, leadIn.c_str(), def.pushes ? "on" : "off",
+                  def.segmentSeconds, def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
+                                       std::to_string(int(def.standSeconds)) + " s").c_str() : "",
+                  onnxPath, hash.c_str());
+  }
+  return head;
+}
+
+// prints the card's head, runs the card (the other stages' drivers from the tree's folder) and prints its figures;
+// returns the result and the whole text, as `eval` records it
+struct PrintedCard {
+  ai::CardResult result;
+  std::string text;
+};
+PrintedCard printCard(const Loaded& l, const ai::PolicyFn& act, const ai::CardRun& run, const std::string& modelShown,
+                      const std::string& hash) {
+  const std::string head = cardHead(l, run, modelShown, hash);
+  std::fputs(head.c_str(), stdout);
+  std::fflush(stdout);
+  PrintedCard c;
+  c.result = runCard(l, act, run, loadCardDrivers(l, l.tree.directory));
+  const std::string figures = cardText(c.result);
+  std::fputs(figures.c_str(), stdout);
+  c.text = head + figures;
+  return c;
+}
+
+// writes RUN/SKILL.onnx and RUN/SKILL.policy.bin (with where the policy came from) and says how to ship them
+void exportToRun(const Loaded& l, const std::string& runDir, const ai::PolicyState& policy, const ai::PolicyInfo& info,
+                 uint64_t seed, const std::string& source) {
+  const std::string onnxPath = exportedModelPath(runDir, *l.skill), policyPath = exportedPolicyPath(runDir, *l.skill);
+  exportSkill(l.model, *l.skill, policy, onnxPath, policyPath, info, seed);
+  char score[64] = "no card score";
+  if (!std::isnan(info.score)) std::snprintf(score, sizeof score, "card score %.3f", info.score);
+  std::printf("exported %s and %s (%s: iteration %lld, %lld env steps, %s)\n", onnxPath.c_str(), policyPath.c_str(),
+              source.c_str(), (long long)info.iteration, (long long)info.envSteps, score);
+  const std::string tree = l.tree.path == engine::projectFile("assets/skills/tree.toml") ? "" : "--tree " + l.tree.path + " ";
+  std::printf("the shipped model in %s is unchanged; to install this one once its card passes: treelearn %sship %s --from %s\n",
+              l.tree.directory.c_str(), tree.c_str(), l.skill->name.c_str(), runDir.c_str());
+}
+
 }  // namespace
 
 int runTrain(const TrainOptions& o) {
@@ -143,9 +236,9 @@ int runTrain(const TrainOptions& o) {
   const int64_t steps = o.steps > 0 ? o.steps : skill.trainingSteps;
   const int envs = o.envs > 0 ? o.envs : skill.trainingEnvs;
   const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
+  // the other skills' models (the parent's weights, handover and card drivers) are read from modelsDir; the
+  // exported model goes into the run folder, never into the shipped models (`treelearn ship` installs it)
   const std::string modelsDir = o.modelsDir.empty() ? l.tree.directory : o.modelsDir;
-  const std::string onnxPath = modelsDir + "/" + skill.model;
-  const std::string policyPath = modelsDir + "/" + skill.name + ".policy.bin";
   if (config.bufferSize % envs != 0)
     throw engine::Error("--envs " + std::to_string(envs) + " must divide the PPO buffer size " + std::to_string(config.bufferSize));
 
@@ -279,18 +372,21 @@ int runTrain(const TrainOptions& o) {
                  (long long)trainer.iteration(), (long long)steps);
 
   // export the best-by-evaluation policy if there is one, else the final one
-  ai::PolicyInfo info;
-  ai::PolicyState chosen = trainer.policy();
   const std::string best = runDir + "/best.bin";
-  if (std::filesystem::exists(best)) chosen = ai::loadPolicyState(best, &info);
-  exportSkill(l.model, skill, chosen, onnxPath, policyPath, std::filesystem::exists(best) ? info.envSteps : trainer.envSteps(), o.seed);
-  std::printf("exported %s and %s (%s policy)\n", onnxPath.c_str(), policyPath.c_str(),
-              std::filesystem::exists(best) ? "best-by-evaluation" : "final");
+  const bool haveBest = std::filesystem::exists(best);
+  ai::PolicyInfo info{ai::ppoConfigHash(config), trainer.iteration(), trainer.envSteps(), std::nan("")};
+  const ai::PolicyState chosen = haveBest ? ai::loadPolicyState(best, &info) : trainer.policy();
+  exportToRun(l, runDir, chosen, info, o.seed, haveBest ? "best-by-evaluation policy" : "final policy");
   return 0;
 }
 
+std::string exportedModelPath(const std::string& runDir, const robot::SkillDef& skill) { return runDir + "/" + skill.model; }
+std::string exportedPolicyPath(const std::string& runDir, const robot::SkillDef& skill) {
+  return runDir + "/" + skill.name + ".policy.bin";
+}
+
 void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, const ai::PolicyState& policy,
-                 const std::string& onnxPath, const std::string& policyPath, int64_t envSteps, uint64_t seed) {
+                 const std::string& onnxPath, const std::string& policyPath, const ai::PolicyInfo& info, uint64_t seed) {
   for (const std::string& path : {onnxPath, policyPath}) {
     const std::string dir = std::filesystem::path(path).parent_path().string();
     if (!dir.empty()) engine::makeDirectories(dir);
@@ -300,9 +396,9 @@ void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, c
   e.obsMean = policy.normalizer.mean();
   e.obsStd = policy.normalizer.stddev();
   e.obsClip = policy.normalizer.clip();
-  e.metadata = ai::skillMetadata(model, skill, envSteps, seed);
+  e.metadata = ai::skillMetadata(model, skill, info.envSteps, seed);
   ai::savePolicyOnnx(onnxPath, e);
-  ai::savePolicyState(policyPath, policy);
+  ai::savePolicyState(policyPath, policy, info);
 }
 
 int runExport(const TrainOptions& o) {
@@ -315,18 +411,15 @@ int runExport(const TrainOptions& o) {
     source = runDir + "/checkpoint.bin";
     const ai::TrainerCheckpoint c = ai::loadCheckpoint(source);
     p = c.policy;
+    info.configHash = c.configHash;
     info.iteration = c.iteration;
-    info.envSteps = c.envSteps;
+    info.envSteps = c.envSteps;  // no score: the last policy was not necessarily evaluated
   } else {
     source = runDir + "/best.bin";
     if (!std::filesystem::exists(source)) throw engine::Error(source + ": no evaluated policy to export yet");
     p = ai::loadPolicyState(source, &info);
   }
-  const std::string modelsDir = o.modelsDir.empty() ? l.tree.directory : o.modelsDir;
-  exportSkill(l.model, *l.skill, p, modelsDir + "/" + l.skill->model, modelsDir + "/" + l.skill->name + ".policy.bin",
-              info.envSteps, o.seed);
-  std::printf("exported %s from %s (iteration %lld, %lld env steps)\n", l.skill->model.c_str(), source.c_str(),
-              (long long)info.iteration, (long long)info.envSteps);
+  exportToRun(l, runDir, p, info, o.seed, source);
   return 0;
 }
 
@@ -350,10 +443,7 @@ int runEval(const EvalOptions& o) {
     if (sampled->actor.inputSize() != robot::kObservationSize || sampled->actor.outputSize() != robot::kActionSize)
       throw engine::Error(o.samplePolicy + ": network sizes do not match the shared layout");
   } else if (!o.priorOnly) {
-    policy = std::make_unique<ai::LoadedPolicy>(ai::loadPolicyOnnx(onnxPath));
-    if (policy->observationSize() != robot::kObservationSize || policy->actionSize() != robot::kActionSize)
-      throw engine::Error(onnxPath + ": network sizes do not match the shared layout");
-    ai::checkModelMatchesSkill(*policy, onnxPath, l.model, *l.skill, l.tree.path);
+    policy = loadSkillModel(l, onnxPath);
   }
   const ai::PolicyFn act = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
     if (sampled) {  // called once a tick for the whole batch, on one thread: the draws are in a fixed order
@@ -384,54 +474,10 @@ int runEval(const EvalOptions& o) {
   }
   ai::CardRun run{def, o.seed, o.threads};
   if (o.episodes > 0) run.card.episodes = o.episodes;
-  char head[512];
   const std::string hash = policy ? engine::toHex(ai::onnxFileHash(onnxPath)) : "-";
-  if (def.kind == robot::CardDef::Kind::StandUp)
-    std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s (model %s, hash %s), "
-                  "then %s takes over once it stands\n", o.skill.c_str(), run.card.episodes, l.skill->parent.c_str(),
-                  def.lieSeconds.lo, def.lieSeconds.hi, o.skill.c_str(), onnxPath.c_str(), hash.c_str(), l.skill->up.c_str());
-  else if (def.kind == robot::CardDef::Kind::PushUp)
-    std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s for %g s (model %s, hash %s)\n",
-                  o.skill.c_str(), run.card.episodes, l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi,
-                  o.skill.c_str(), def.episodeSeconds, onnxPath.c_str(), hash.c_str());
-  else if (def.kind == robot::CardDef::Kind::Crawl) {
-    char steer[160] = "";
-    if (def.steer > 0)
-      std::snprintf(steer, sizeof steer, ", steered toward its axis as a player would (wz = -%g x the error, within %g rad/s)",
-                    def.steer, l.skill->commands.wz.hi);
-    std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s at %g-%g m/s through a "
-                  "tunnel %g m wide, its ceiling %g m up%s (model %s, hash %s)\n", o.skill.c_str(), run.card.episodes,
-                  l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi, o.skill.c_str(), def.vx.lo, def.vx.hi,
-                  l.skill->terrain.width, l.skill->terrain.ceilingHeight, steer, onnxPath.c_str(), hash.c_str());
-  } else {
-    std::string leadIn;  // "walk 1-3 s, to rest, one_leg 0-2 s, then " for a lead_in card
-    if (def.leadIn) {
-      char b[160];
-      const std::vector<const robot::SkillDef*> route = handoverRoute(l.tree, *l.skill);
-      for (size_t k = 0; k < route.size(); ++k) {
-        const robot::Range& t = k == 0 ? l.skill->handoverSeconds : l.skill->handoverViaSeconds;
-        std::snprintf(b, sizeof b, "%s%s %g-%g s", k == 0 ? "each entered as in play: " : ", ", route[k]->name.c_str(), t.lo, t.hi);
-        leadIn += b;
-      }
-      leadIn = " (" + leadIn + ", then " + o.skill + ")";
-    }
-    if (def.kind == robot::CardDef::Kind::Stairs && def.steer > 0) {  // the player's steering, as the crawl card says it
-      char b[160];
-      std::snprintf(b, sizeof b, ", steered square to the stairs as play's heading hold does (wz = -%g x the heading off them, within %g rad/s)",
-                    def.steer, robot::headingHoldLimit(l.skill->commands));
-      leadIn += b;
-    }
-    std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s%s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
-                  o.skill.c_str(), run.card.episodes, def.episodeSeconds, leadIn.c_str(), def.pushes ? "on" : "off",
-                  def.segmentSeconds, def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
-                                       std::to_string(int(def.standSeconds)) + " s").c_str() : "",
-                  onnxPath.c_str(), hash.c_str());
-  }
-  std::fputs(head, stdout);
-  std::fflush(stdout);
-  const ai::CardResult r = runCard(l, act, run, loadCardDrivers(l, l.tree.directory));
-  const std::string text = head + cardText(r);
-  std::fputs(text.c_str() + std::strlen(head), stdout);
+  const PrintedCard card = printCard(l, act, run, onnxPath, hash);
+  const std::string& text = card.text;
+  const ai::CardResult& r = card.result;
   // the shipped model's card with the card's own episodes and seed is kept next to it (for `treelearn tree`);
   // a record of the same model file must come out identical: training other skills never changes a skill
   if (policy && o.model.empty() && o.episodes == 0 && o.seed == 1) {
@@ -446,6 +492,85 @@ int runEval(const EvalOptions& o) {
     else engine::writeFileAtomic(record, text), std::printf("  recorded in %s\n", record.c_str());
   }
   return r.pass ? 0 : 1;
+}
+
+int runShip(const ShipOptions& o) {
+  namespace fs = std::filesystem;
+  const Loaded l = loadSkill(o.skill);
+  const robot::SkillDef& skill = *l.skill;
+  const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
+  if (!fs::is_directory(runDir))
+    throw engine::Error(runDir + ": no such run folder (`treelearn train " + skill.name + " --run-dir " + runDir + "` makes one)");
+  const std::string onnxPath = exportedModelPath(runDir, skill), policyPath = exportedPolicyPath(runDir, skill);
+  if (!fs::exists(onnxPath)) {
+    std::string others;  // another skill's export in the folder: the wrong run, or the wrong skill named
+    for (const auto& e : fs::directory_iterator(runDir))
+      if (e.path().extension() == ".onnx") others += (others.empty() ? "" : ", ") + e.path().filename().string();
+    throw engine::Error(onnxPath + ": the run folder holds no model of '" + skill.name + "' " +
+                        (others.empty() ? "(train exports it when it ends; `treelearn train " + skill.name + " --export-only --run-dir " +
+                                              runDir + "` exports the run's best)"
+                                        : "but " + others + ": a run of another skill?"));
+  }
+  if (!fs::exists(policyPath))
+    throw engine::Error(policyPath + ": missing next to " + onnxPath + " (a branch starts from it; `treelearn train " + skill.name +
+                        " --export-only --run-dir " + runDir + "` exports both)");
+  {
+    const ai::LoadedPolicy file = ai::loadPolicyOnnx(onnxPath);
+    const auto it = file.metadata.find("treelearn.skill");
+    if (it != file.metadata.end() && it->second != skill.name)
+      throw engine::Error(onnxPath + ": a model of skill '" + it->second + "', not of '" + skill.name + "'");
+  }
+  const std::unique_ptr<ai::LoadedPolicy> policy = loadSkillModel(l, onnxPath);
+  ai::PolicyInfo info;
+  const ai::PolicyState state = ai::loadPolicyState(policyPath, &info);
+  const auto same = [](const auto& a, const auto& b) { return a.rows() == b.rows() && a.cols() == b.cols() && a == b; };
+  bool sameActor = state.actor.layers() == policy->actor.layers() && same(state.normalizer.mean(), policy->obsMean);
+  for (int k = 0; sameActor && k < state.actor.layers(); ++k)
+    sameActor = same(state.actor.W[k], policy->actor.W[k]) && same(state.actor.b[k], policy->actor.b[k]);
+  if (!sameActor)
+    throw engine::Error(policyPath + " and " + onnxPath + " hold different policies (not one export): export the run again");
+
+  const std::string installedOnnx = l.tree.directory + "/" + skill.model;
+  const std::string installedPolicy = l.tree.directory + "/" + skill.name + ".policy.bin";
+  const std::string hash = engine::toHex(ai::onnxFileHash(onnxPath));
+  char score[64] = "no card score";
+  if (!std::isnan(info.score)) std::snprintf(score, sizeof score, "training card score %.3f", info.score);
+  std::printf("shipping %s (hash %s; iteration %lld, %lld env steps, %s) as %s, if its report card passes:\n",
+              onnxPath.c_str(), hash.c_str(), (long long)info.iteration, (long long)info.envSteps, score, installedOnnx.c_str());
+  std::string record;  // the card as `eval` records it for the installed model
+  if (skill.card.kind == robot::CardDef::Kind::None) {
+    if (!o.force)
+      throw engine::Error(l.tree.path + ": skill '" + skill.name + "' has no [skill." + skill.name +
+                          ".card] table, so its model cannot be judged (ship --force installs it without a card)");
+    std::printf("  no report card for '%s': installed without one (--force)\n", skill.name.c_str());
+  } else {
+    const PrintedCard card = printCard(
+        l, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); }, ai::CardRun{skill.card, 1, o.threads},
+        installedOnnx, hash);
+    if (!card.result.pass) {
+      std::string failed;
+      for (const ai::CardFigure& f : card.result.figures)
+        if (f.bar[0] != '(' && !f.pass) {
+          char b[256];
+          std::snprintf(b, sizeof b, "%s%s %.3f, bar %s", failed.empty() ? "" : "; ", f.name.c_str(), f.value, f.bar.c_str());
+          failed += b;
+        }
+      if (!o.force) {
+        std::printf("REFUSED: the card of '%s' fails (%s): nothing was installed (ship --force installs it anyway)\n",
+                    skill.name.c_str(), failed.c_str());
+        return 1;
+      }
+      std::printf("  the card fails (%s): installed anyway (--force); its record says CARD FAILED\n", failed.c_str());
+    }
+    record = card.text;
+  }
+  // each file atomically (a temp file, then a rename): the branches' weights, the model play loads, its card
+  engine::writeFileAtomic(installedPolicy, engine::readFile(policyPath));
+  engine::writeFileAtomic(installedOnnx, engine::readFile(onnxPath));
+  if (!record.empty()) engine::writeFileAtomic(cardRecordPath(l.tree, skill), record);
+  std::printf("shipped %s and %s%s\n", installedOnnx.c_str(), installedPolicy.c_str(),
+              record.empty() ? "" : (", card recorded in " + cardRecordPath(l.tree, skill)).c_str());
+  return 0;
 }
 
 int runEvalAll(const EvalOptions& o) {

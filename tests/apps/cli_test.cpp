@@ -7,11 +7,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "ai/ppo/checkpoint.h"
 #include "engine/core/file_io.h"
 
 namespace {
@@ -43,12 +46,48 @@ std::string tempDir(const std::string& name) {
   return d;
 }
 
+// every regular file of a folder (recursively) with a hash of its bytes and its modification time
+std::map<std::string, std::pair<size_t, fs::file_time_type>> snapshot(const std::string& dir) {
+  std::map<std::string, std::pair<size_t, fs::file_time_type>> files;
+  for (const auto& f : fs::recursive_directory_iterator(dir))
+    if (f.is_regular_file())
+      files[fs::relative(f.path(), dir).string()] = {std::hash<std::string>()(engine::readFile(f.path())), f.last_write_time()};
+  return files;
+}
+
+// a folder holding a copy of the skill tree whose squat card runs `episodes` episodes (2: a few seconds), with
+// `edit` applied to the squat card's table; the shipped models are not copied
+std::string squatTree(const std::string& name, int episodes, const std::pair<std::string, std::string>& edit = {}) {
+  const std::string d = tempDir(name) + "/skills";
+  fs::create_directories(d);
+  std::string tree = engine::readFile(kSource + "/assets/skills/tree.toml");
+  const size_t card = tree.find("[skill.squat.card]");
+  const size_t count = tree.find("episodes = 20\n", card);
+  if (card == std::string::npos || count == std::string::npos) return "";
+  tree.replace(count, 14, "episodes = " + std::to_string(episodes) + "\n");
+  if (!edit.first.empty()) {
+    const size_t at = tree.find(edit.first, card);
+    if (at == std::string::npos) return "";
+    tree.replace(at, edit.first.size(), edit.second);
+  }
+  engine::writeFileAtomic(d + "/tree.toml", tree);
+  return d;
+}
+
+// a run folder holding squat.onnx and squat.policy.bin as `train squat` exports them (the shipped squat's files)
+std::string squatRun(const std::string& parent) {
+  const std::string run = parent + "/run";
+  fs::create_directories(run);
+  for (const char* f : {"squat.onnx", "squat.policy.bin"}) fs::copy_file(kSource + "/assets/skills/" + f, run + "/" + f);
+  return run;
+}
+
 }  // namespace
 
 TEST(Cli, HelpListsTheCommands) {
   const CliRun r = run("--help");
   EXPECT_EQ(r.code, 0);
-  for (const char* c : {"play", "replay", "bench"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
+  for (const char* c : {"play", "replay", "bench", "train", "eval", "ship", "tree"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
 }
 
 TEST(Cli, FlatSquareScriptStaysAlive) {
@@ -343,16 +382,16 @@ TEST(Cli, FailedOutputLeavesNoHalfWrittenFile) {
 
 TEST(Cli, TrainWritesLogCheckpointAndAValidOnnxModel) {
   const std::string d = tempDir("train");
-  const CliRun r = run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d + "/run --models-dir " + d);
+  const CliRun r = run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d + "/run");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("iter 1/1"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(d + "/run/checkpoint.bin"));
-  EXPECT_TRUE(fs::exists(d + "/walk.policy.bin"));
+  EXPECT_TRUE(fs::exists(d + "/run/walk.policy.bin"));
   const std::string log = engine::readFile(d + "/run/log.csv");
   EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 2);  // header + one iteration
   // the exported model loads and has the shared layout in its metadata
-  EXPECT_GT(fs::file_size(d + "/walk.onnx"), 1000000u);
-  const std::string onnx = engine::readFile(d + "/walk.onnx");
+  EXPECT_GT(fs::file_size(d + "/run/walk.onnx"), 1000000u);
+  const std::string onnx = engine::readFile(d + "/run/walk.onnx");
   EXPECT_NE(onnx.find("treelearn.joint_order"), std::string::npos);
   EXPECT_NE(onnx.find("left_hip_pitch_joint"), std::string::npos);
 }
@@ -362,7 +401,7 @@ TEST(Cli, EvalConfirmScoresACandidateAgainOnOtherEpisodes) {
   // is the one logged and kept with best.bin
   const std::string d = tempDir("confirm");
   const CliRun r = run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 1 --eval-episodes 1 --eval-confirm 2 "
-                       "--run-dir " + d + "/run --models-dir " + d);
+                       "--run-dir " + d + "/run");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("(1-episode card"), std::string::npos) << r.out;
   const size_t at = r.out.find("  confirm: ");
@@ -376,7 +415,7 @@ TEST(Cli, AResumedRunConfirmsExactlyWhenTheUninterruptedRunDoes) {
   // same in both. At seed 2 its card does not beat the first iteration's confirmed score, so neither run confirms
   // it again (a resumed run that forgot its best confirmed score would)
   const std::string d = tempDir("confirm_resume");
-  const std::string args = "train walk --seed 2 --envs 4 --threads 1 --eval-every 1 --eval-episodes 1 --eval-confirm 2 --models-dir " + d;
+  const std::string args = "train walk --seed 2 --envs 4 --threads 1 --eval-every 1 --eval-episodes 1 --eval-confirm 2";
   const CliRun straight = run(args + " --steps 40960 --run-dir " + d + "/a");
   ASSERT_EQ(straight.code, 0) << straight.out;
   ASSERT_EQ(run(args + " --steps 20480 --run-dir " + d + "/b").code, 0);
@@ -399,32 +438,156 @@ TEST(Cli, AResumedRunConfirmsExactlyWhenTheUninterruptedRunDoes) {
   EXPECT_EQ(secondIteration(resumed.out), expected) << resumed.out;
 }
 
-TEST(Cli, TrainingABranchStartsFromItsParentAndWritesOnlyItsOwnFiles) {
+TEST(Cli, TrainingABranchStartsFromItsParentAndWritesOnlyIntoItsRunFolder) {
+  // a copy of the tree and its models: the branch reads its parent's policy from the tree's folder and writes
+  // nothing there, its own model included (ship installs it)
   const std::string d = tempDir("branch");
   const std::string models = d + "/models";
   fs::copy(kSource + "/assets/skills", models, fs::copy_options::recursive);
-  std::vector<std::pair<std::string, std::string>> before;  // every file and its bytes
-  for (const auto& f : fs::directory_iterator(models))
-    if (f.is_regular_file()) before.push_back({f.path().filename(), engine::readFile(f.path())});
+  const auto before = snapshot(models);
   ASSERT_TRUE(fs::exists(models + "/walk.policy.bin"));
-  const CliRun r = run("train run --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d + "/run --models-dir " + models);
+  const CliRun r = run("--tree " + models + "/tree.toml train run --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d + "/run");
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("initialised from parent 'walk'"), std::string::npos) << r.out;
-  for (const auto& [name, bytes] : before) {
-    if (name.rfind("run.", 0) == 0) continue;
-    EXPECT_EQ(engine::readFile(models + "/" + name), bytes) << name << " was changed";
-  }
-  EXPECT_TRUE(fs::exists(models + "/run.onnx"));
-  EXPECT_TRUE(fs::exists(models + "/run.policy.bin"));
-  size_t files = 0;
-  for (const auto& f : fs::directory_iterator(models)) files += f.is_regular_file();
-  EXPECT_LE(files, before.size() + 2) << "training wrote files other than run.onnx and run.policy.bin";
+  EXPECT_NE(r.out.find("initialised from parent 'walk' (" + models + "/walk.policy.bin)"), std::string::npos) << r.out;
+  EXPECT_TRUE(snapshot(models) == before) << "training changed or added files in the tree's folder";
+  EXPECT_TRUE(fs::exists(d + "/run/run.onnx"));
+  EXPECT_TRUE(fs::exists(d + "/run/run.policy.bin"));
+  EXPECT_NE(r.out.find("treelearn --tree " + models + "/tree.toml ship run --from " + d + "/run"), std::string::npos) << r.out;
+}
+
+TEST(Cli, TrainAndExportLeaveTheShippedModelsUntouched) {
+  // the real tree, as a user runs it: neither a run nor --export-only writes into assets/skills
+  const std::string d = tempDir("assets_untouched");
+  const auto before = snapshot(kSource + "/assets/skills");
+  const CliRun trained = run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d + "/run");
+  ASSERT_EQ(trained.code, 0) << trained.out;
+  const CliRun exported = run("train walk --export-only --export-from last --run-dir " + d + "/run");
+  ASSERT_EQ(exported.code, 0) << exported.out;
+  EXPECT_NE(exported.out.find("exported " + d + "/run/walk.onnx and " + d + "/run/walk.policy.bin"), std::string::npos)
+      << exported.out;
+  EXPECT_NE(exported.out.find("treelearn ship walk --from " + d + "/run"), std::string::npos) << exported.out;
+  EXPECT_TRUE(snapshot(kSource + "/assets/skills") == before) << "train or train --export-only changed assets/skills";
+}
+
+TEST(Cli, TheExportedPolicyFileRecordsStepsIterationAndCardScore) {
+  // RUN/SKILL.policy.bin says where its policy came from, as best.bin does: the best by the training card, with
+  // its score; --export-from last: the checkpoint's iteration and steps, and no score (it was not judged)
+  const std::string d = tempDir("policy_info");
+  const CliRun r = run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 1 --eval-episodes 1 --run-dir " + d + "/run");
+  ASSERT_EQ(r.code, 0) << r.out;
+  ai::PolicyInfo best, exported;
+  ai::loadPolicyState(d + "/run/best.bin", &best);
+  ai::loadPolicyState(d + "/run/walk.policy.bin", &exported);
+  EXPECT_EQ(exported.iteration, 1);
+  EXPECT_EQ(exported.envSteps, 20480);
+  EXPECT_FALSE(std::isnan(exported.score));
+  EXPECT_EQ(exported.score, best.score);
+  EXPECT_EQ(exported.configHash, best.configHash);
+  const CliRun last = run("train walk --export-only --export-from last --run-dir " + d + "/run");
+  ASSERT_EQ(last.code, 0) << last.out;
+  ai::loadPolicyState(d + "/run/walk.policy.bin", &exported);
+  EXPECT_EQ(exported.iteration, 1);
+  EXPECT_EQ(exported.envSteps, 20480);
+  EXPECT_TRUE(std::isnan(exported.score));
+  EXPECT_EQ(exported.configHash, best.configHash);
+}
+
+TEST(Cli, ShipInstallsAModelWhoseCardPassesAndRecordsTheCardAsEvalDoes) {
+  // a tree copy whose squat card runs 2 episodes; the run folder holds the shipped squat's files as if exported
+  const std::string skills = squatTree("ship_pass", 2);
+  ASSERT_FALSE(skills.empty());
+  const std::string from = squatRun(fs::path(skills).parent_path());
+  const CliRun r = run("--tree " + skills + "/tree.toml ship squat --from " + from);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("CARD PASSED"), std::string::npos) << r.out;
+  for (const char* f : {"squat.onnx", "squat.policy.bin"})
+    EXPECT_EQ(engine::readFile(skills + "/" + f), engine::readFile(from + "/" + f)) << f;
+  const std::string record = engine::readFile(skills + "/squat.card.txt");
+  EXPECT_NE(record.find("squat report card: 2 episodes"), std::string::npos) << record;
+  EXPECT_NE(record.find("(model " + skills + "/squat.onnx, hash "), std::string::npos) << record;
+  // the record is the one eval keeps for the installed model: eval finds its card identical to it
+  const CliRun eval = run("--tree " + skills + "/tree.toml eval squat");
+  EXPECT_EQ(eval.code, 0) << eval.out;
+  EXPECT_NE(eval.out.find("identical to the card recorded for this model"), std::string::npos) << eval.out;
+  for (const auto& f : fs::directory_iterator(skills))  // the atomic writes left no temp files
+    EXPECT_EQ(f.path().filename().string().find(".tmp"), std::string::npos) << f.path();
+}
+
+TEST(Cli, ShipRefusesAModelWhoseCardFailsAndNamesTheFailingFigure) {
+  // the squat card's height bar made unreachable (0.1 mm) in a tree copy: the model stays in its run folder
+  const std::string skills = squatTree("ship_refused", 2, {"height_error = 0.04", "height_error = 0.0001"});
+  ASSERT_FALSE(skills.empty());
+  const std::string from = squatRun(fs::path(skills).parent_path());
+  const auto before = snapshot(skills);
+  const CliRun r = run("--tree " + skills + "/tree.toml ship squat --from " + from);
+  EXPECT_EQ(r.code, 1) << r.out;
+  const size_t at = r.out.find("REFUSED: ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const std::string refused = r.out.substr(at, r.out.find('\n', at) - at);
+  EXPECT_NE(refused.find("the card of 'squat' fails (mean |h - h_target| (pelvis) "), std::string::npos) << refused;
+  EXPECT_NE(refused.find("bar <= 0.0001 m)"), std::string::npos) << refused;
+  EXPECT_EQ(refused.find("episodes without a fall"), std::string::npos) << refused;  // a passing figure is not named
+  EXPECT_NE(refused.find("nothing was installed"), std::string::npos) << refused;
+  EXPECT_TRUE(snapshot(skills) == before) << "a refused model changed the tree's folder";
+}
+
+TEST(Cli, ShipForceInstallsAModelWhoseCardFailsAndRecordsTheFailure) {
+  const std::string skills = squatTree("ship_forced", 2, {"height_error = 0.04", "height_error = 0.0001"});
+  ASSERT_FALSE(skills.empty());
+  const std::string from = squatRun(fs::path(skills).parent_path());
+  const CliRun r = run("--tree " + skills + "/tree.toml ship squat --force --from " + from);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("installed anyway (--force)"), std::string::npos) << r.out;
+  for (const char* f : {"squat.onnx", "squat.policy.bin"})
+    EXPECT_EQ(engine::readFile(skills + "/" + f), engine::readFile(from + "/" + f)) << f;
+  EXPECT_NE(engine::readFile(skills + "/squat.card.txt").find("CARD FAILED"), std::string::npos);
+  const CliRun tree = run("--tree " + skills + "/tree.toml tree");
+  EXPECT_NE(tree.out.find("FAIL"), std::string::npos) << tree.out;
+}
+
+TEST(Cli, ShipRejectsAMissingRunAMissingModelAndAnotherSkillsModel) {
+  const std::string skills = squatTree("ship_bad", 2);
+  ASSERT_FALSE(skills.empty());
+  const std::string d = fs::path(skills).parent_path();
+  const std::string ship = "--tree " + skills + "/tree.toml ship squat --from ";
+  const auto before = snapshot(skills);
+  const CliRun none = run(ship + d + "/nowhere");
+  EXPECT_EQ(none.code, 2) << none.out;
+  EXPECT_NE(none.out.find(d + "/nowhere: no such run folder"), std::string::npos) << none.out;
+  fs::create_directories(d + "/empty");
+  const CliRun empty = run(ship + d + "/empty");
+  EXPECT_EQ(empty.code, 2) << empty.out;
+  EXPECT_NE(empty.out.find("the run folder holds no model of 'squat' (train exports it"), std::string::npos) << empty.out;
+  fs::create_directories(d + "/walk_run");  // a run of the walk, shipped as the squat
+  fs::copy_file(kSource + "/assets/skills/walk.onnx", d + "/walk_run/walk.onnx");
+  const CliRun other = run(ship + d + "/walk_run");
+  EXPECT_EQ(other.code, 2) << other.out;
+  EXPECT_NE(other.out.find("holds no model of 'squat' but walk.onnx: a run of another skill?"), std::string::npos) << other.out;
+  fs::create_directories(d + "/renamed");  // the walk's files under the squat's names
+  fs::copy_file(kSource + "/assets/skills/walk.onnx", d + "/renamed/squat.onnx");
+  fs::copy_file(kSource + "/assets/skills/walk.policy.bin", d + "/renamed/squat.policy.bin");
+  const CliRun renamed = run(ship + d + "/renamed");
+  EXPECT_EQ(renamed.code, 2) << renamed.out;
+  EXPECT_NE(renamed.out.find("squat.onnx: a model of skill 'walk', not of 'squat'"), std::string::npos) << renamed.out;
+  fs::create_directories(d + "/mixed");  // the squat's model next to another policy file
+  fs::copy_file(kSource + "/assets/skills/squat.onnx", d + "/mixed/squat.onnx");
+  const CliRun lonely = run(ship + d + "/mixed");
+  EXPECT_EQ(lonely.code, 2) << lonely.out;
+  EXPECT_NE(lonely.out.find("squat.policy.bin: missing next to"), std::string::npos) << lonely.out;
+  fs::copy_file(kSource + "/assets/skills/walk.policy.bin", d + "/mixed/squat.policy.bin");
+  const CliRun mixed = run(ship + d + "/mixed");
+  EXPECT_EQ(mixed.code, 2) << mixed.out;
+  EXPECT_NE(mixed.out.find("hold different policies"), std::string::npos) << mixed.out;
+  const CliRun unknown = run("--tree " + skills + "/tree.toml ship flyer --from " + d + "/mixed");
+  EXPECT_EQ(unknown.code, 2) << unknown.out;
+  EXPECT_NE(unknown.out.find("unknown skill 'flyer'"), std::string::npos) << unknown.out;
+  EXPECT_TRUE(snapshot(skills) == before) << "a rejected ship changed the tree's folder";
 }
 
 TEST(Cli, AResumeAtOrPastTheStepsSaysNothingWasTrained) {
   // one iteration of 4 x 5120 steps, then the same --steps again with --resume: the checkpoint is already there
   const std::string d = tempDir("resume_done");
-  const std::string args = "train walk --steps 20480 --envs 4 --threads 1 --eval-every 0 --run-dir " + d + "/run --models-dir " + d;
+  const std::string args = "train walk --steps 20480 --envs 4 --threads 1 --eval-every 0 --run-dir " + d + "/run";
   ASSERT_EQ(run(args).code, 0);
   const CliRun r = run(args + " --resume");
   EXPECT_EQ(r.code, 0) << r.out;
@@ -454,20 +617,34 @@ TEST(Cli, BranchWithoutParentModelIsAnError) {
   EXPECT_NE(r.out.find("train walk first"), std::string::npos) << r.out;
 }
 
-TEST(Cli, EveryShippedCardReproducesItsRecord) {
+// the skills with a shipped model in assets/skills (NAME.onnx), sorted
+std::vector<std::string> shippedSkills() {
+  std::vector<std::string> skills;
+  for (const auto& f : fs::directory_iterator(kSource + "/assets/skills"))
+    if (f.path().extension() == ".onnx") skills.push_back(f.path().stem());
+  std::sort(skills.begin(), skills.end());
+  return skills;
+}
+
+class ShippedCard : public testing::TestWithParam<std::string> {};
+
+TEST_P(ShippedCard, ReproducesItsRecord) {
   // retention: a skill's card, re-run with its seed on the shipped model, must equal the record kept when the
-  // model was shipped (training other skills never touches it; same binary, same numbers)
-  const std::string dir = kSource + "/assets/skills";
-  int checked = 0;
-  for (const auto& f : fs::directory_iterator(dir)) {
-    const std::string name = f.path().filename();
-    if (name.size() < 10 || name.substr(name.size() - 9) != ".card.txt") continue;
-    const std::string skill = name.substr(0, name.size() - 9);
-    const CliRun r = run("eval " + skill);
-    EXPECT_NE(r.out.find("identical to the card recorded"), std::string::npos) << skill << ":\n" << r.out;
-    ++checked;
-  }
-  EXPECT_GE(checked, 1) << "no card records in assets/skills";
+  // model was shipped (training other skills never touches it; same binary, same numbers, whatever the thread
+  // count). One test per skill on one thread, so that ctest -j2 runs two cards side by side on the two cores
+  const std::string skill = GetParam();
+  ASSERT_TRUE(fs::exists(kSource + "/assets/skills/" + skill + ".card.txt"))
+      << skill << " is shipped without its card record (treelearn ship " << skill << " writes it)";
+  const CliRun r = run("eval " + skill + " --threads 1");
+  EXPECT_NE(r.out.find("identical to the card recorded"), std::string::npos) << skill << ":\n" << r.out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, ShippedCard, testing::ValuesIn(shippedSkills()),
+                         [](const testing::TestParamInfo<std::string>& skill) { return skill.param; });
+
+TEST(Cli, ThereAreShippedModelsForTheCardTestsToCheck) {
+  // the cards above run over assets/skills/*.onnx: an empty list would check nothing
+  EXPECT_FALSE(shippedSkills().empty()) << "no models in assets/skills";
 }
 
 TEST(Cli, TreeShowsEverySkillWithItsKeyAndCard) {
