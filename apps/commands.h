@@ -7,6 +7,7 @@
 
 #include "ai/ppo/checkpoint.h"
 #include "ai/ppo/ppo.h"
+#include "ai/train/train_skill.h"
 #include "robot/skill_runtime.h"
 #include "robot/skill_tree.h"
 
@@ -23,32 +24,11 @@ struct BenchOptions {
 /// Runs the benchmarks and prints a table; returns the exit code.
 int runBench(const BenchOptions& options);
 
-/// `treelearn train` options.
-struct TrainOptions {
+/// `treelearn train` options: the training's (ai::TrainSkillOptions), the skill, and --export-only.
+struct TrainOptions : ai::TrainSkillOptions {
   std::string skill;
-  int64_t steps = 0;      ///< 0 = the skill's budget from the tree file
-  bool resume = false;
-  int threads = 2;
-  int envs = 0;           ///< 0 = the skill's setting
-  uint64_t seed = 1;
-  std::string runDir;     ///< default runs/SKILL
-  int evalEvery = 10;     ///< iterations between report-card evaluations (0 = never)
-  int evalEpisodes = 10;  ///< episodes of each training evaluation (the card's own count is for `eval`)
-  /// > 0: an evaluation that beats the best confirmed score so far is run again on this many other episodes, and
-  /// that score decides the best policy (0: the evalEpisodes card alone, always on the same episodes)
-  int evalConfirm = 0;
-  double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
-  double initLogStd = std::nan("");  ///< branch init: set every log-std entry to this (less or more exploration)
-  bool freezeNormalizer = false;  ///< keep the loaded observation statistics
-  int criticWarmup = 0;  ///< iterations that update the critic only (a branch's inherited critic learns first)
-  bool zeroOutput = false;  ///< branch init: the actor's output layer starts at zero (the branch begins as its prior)
-  std::string initFrom;   ///< start from this policy file (PolicyState) instead of fresh weights or the parent
-  double learningRate = std::nan("");  ///< override of the [ppo] initial learning rate (fine-tuning)
   bool exportOnly = false;
   std::string exportFrom = "best";  ///< --export-only source: best (best.bin) or last (checkpoint.bin)
-  /// where the other skills' models are read from (the parent's policy, handover and card drivers; default: the
-  /// tree file's folder). The run's own model is written into runDir, never here.
-  std::string modelsDir;
 };
 
 /// `treelearn eval` options.
@@ -103,12 +83,5 @@ int runEval(const EvalOptions& options);
 /// `treelearn eval all`: every skill's card, then the switches; exit 0 when everything passes.
 int runEvalAll(const EvalOptions& options);
 
-/// Writes a skill's ONNX file (with DESIGN.md §3 metadata) and its full policy state (for branches), the latter
-/// with where it came from (iteration, env steps, card score).
-void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, const ai::PolicyState& policy,
-                 const std::string& onnxPath, const std::string& policyPath, const ai::PolicyInfo& info, uint64_t seed);
-/// Where `train` exports a skill's model and policy file in its run folder: RUN/SKILL.onnx, RUN/SKILL.policy.bin.
-std::string exportedModelPath(const std::string& runDir, const robot::SkillDef& skill);
-std::string exportedPolicyPath(const std::string& runDir, const robot::SkillDef& skill);
 
 }  // namespace apps
