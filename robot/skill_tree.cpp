@@ -108,6 +108,75 @@ struct Reader {
 // A steer (line_steer, heading_steer, a card's steer) turns with wz: the range must reach either side of 0.
 bool turnsBothWays(const CommandDef& c) { return c.wz.lo < 0 && c.wz.hi > 0; }
 
+// Which of the tables a branch inherits from its parent a skill wrote itself.
+struct Given {
+  bool gains = false, actionScale = false, actionFilter = false, termination = false, randomisation = false;
+};
+
+// Parents exist, the tree has exactly one root, an `up` names another skill, and a skill without a key is
+// someone's `up`.
+void checkParentsAndKeys(const Reader& r, const SkillTree& tree) {
+  int roots = 0;
+  for (const SkillDef& s : tree.skills) {
+    if (s.parent.empty()) ++roots;
+    else if (!tree.find(s.parent)) throw Error(located(r.file, s.line, "skill." + s.name + ": unknown parent '" + s.parent + "'"));
+    if (!s.up.empty() && (!tree.find(s.up) || s.up == s.name))
+      throw Error(located(r.file, s.line, "skill." + s.name + ": up = '" + s.up + "' is not another skill of the tree"));
+    const bool someonesWayUp = std::any_of(tree.skills.begin(), tree.skills.end(), [&](const SkillDef& o) { return o.up == s.name; });
+    if (s.key < 0 && !someonesWayUp)
+      throw Error(located(r.file, s.line, "skill." + s.name + ": missing key (only a skill that is another's `up`, reached "
+                                          "by routing through it, may go without one)"));
+  }
+  if (roots != 1) throw Error(located(r.file, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
+}
+
+// Every chain of parents reaches the root (no cycles), handover_from names a skill on it, and handover_back_from
+// names a child.
+void checkAncestry(const Reader& r, const SkillTree& tree) {
+  for (const SkillDef& s : tree.skills) {
+    const SkillDef* at = &s;
+    bool handoverFromAncestor = false;
+    for (size_t hops = 0; !at->parent.empty(); ++hops) {
+      if (hops > tree.skills.size())
+        throw Error(located(r.file, s.line, "skill." + s.name + ": its parents form a cycle and never reach the root"));
+      at = tree.find(at->parent);
+      handoverFromAncestor = handoverFromAncestor || at->name == s.handoverFrom;
+    }
+    if (!s.handoverBackFrom.empty()) {
+      const SkillDef* child = tree.find(s.handoverBackFrom);
+      if (!child || child->parent != s.name)
+        throw Error(located(r.file, s.line, "skill." + s.name + ": training.handover_back_from = '" + s.handoverBackFrom +
+                                            "' is not one of its children"));
+    }
+    if (!s.handoverFrom.empty() && !handoverFromAncestor)
+      throw Error(located(r.file, s.line, "skill." + s.name + ": training.handover_from = '" + s.handoverFrom +
+                                          "' is not one of its ancestors"));
+  }
+}
+
+// A branch inherits the controller tables it does not write (gains, action_scale, action_filter, termination,
+// randomisation) from its parent: resolved from the root down. The root must give gains.
+void inheritControllerTables(const Reader& r, std::map<std::string, Given>& given, SkillTree* tree) {
+  std::set<std::string> resolved;
+  for (const SkillDef& s : tree->skills)
+    if (s.parent.empty()) {
+      if (!given[s.name].gains) throw Error(located(r.file, s.line, "skill." + s.name + ": the root needs a [gains] table"));
+      resolved.insert(s.name);
+    }
+  while (resolved.size() < tree->skills.size())
+    for (SkillDef& s : tree->skills) {
+      if (resolved.count(s.name) || !resolved.count(s.parent)) continue;
+      const SkillDef& p = *tree->find(s.parent);
+      const Given& g = given[s.name];
+      if (!g.gains) s.kp = p.kp, s.kd = p.kd;
+      if (!g.actionScale) s.actionScale = p.actionScale;
+      if (!g.actionFilter) s.actionFilter = p.actionFilter;
+      if (!g.termination) s.termination = p.termination;
+      if (!g.randomisation) s.randomisation = p.randomisation;
+      resolved.insert(s.name);
+    }
+}
+
 }  // namespace
 
 bool jointInGroup(const std::string& jointName, const std::string& group) {
@@ -131,9 +200,6 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
   }
   r.onlyKeys(root, {"ppo", "skill"}, "the skill tree");
   SkillTree tree;
-  struct Given {
-    bool gains = false, actionScale = false, actionFilter = false, termination = false, randomisation = false;
-  };
   std::map<std::string, Given> given;  // which inheritable tables each skill wrote itself
   tree.path = path;
   tree.directory = std::filesystem::path(path).parent_path().string();
@@ -594,59 +660,9 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     }
     tree.skills.push_back(std::move(s));
   }
-  // parents exist and the tree has exactly one root
-  int roots = 0;
-  for (const SkillDef& s : tree.skills) {
-    if (s.parent.empty()) ++roots;
-    else if (!tree.find(s.parent)) throw Error(located(path, s.line, "skill." + s.name + ": unknown parent '" + s.parent + "'"));
-    if (!s.up.empty() && (!tree.find(s.up) || s.up == s.name))
-      throw Error(located(path, s.line, "skill." + s.name + ": up = '" + s.up + "' is not another skill of the tree"));
-    const bool someonesWayUp = std::any_of(tree.skills.begin(), tree.skills.end(), [&](const SkillDef& o) { return o.up == s.name; });
-    if (s.key < 0 && !someonesWayUp)
-      throw Error(located(path, s.line, "skill." + s.name + ": missing key (only a skill that is another's `up`, reached "
-                                        "by routing through it, may go without one)"));
-  }
-  if (roots != 1) throw Error(located(path, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
-  // every chain of parents must reach the root (no cycles), and handover_from names a skill on it
-  for (const SkillDef& s : tree.skills) {
-    const SkillDef* at = &s;
-    bool handoverFromAncestor = false;
-    for (size_t hops = 0; !at->parent.empty(); ++hops) {
-      if (hops > tree.skills.size())
-        throw Error(located(path, s.line, "skill." + s.name + ": its parents form a cycle and never reach the root"));
-      at = tree.find(at->parent);
-      handoverFromAncestor = handoverFromAncestor || at->name == s.handoverFrom;
-    }
-    if (!s.handoverBackFrom.empty()) {
-      const SkillDef* child = tree.find(s.handoverBackFrom);
-      if (!child || child->parent != s.name)
-        throw Error(located(path, s.line, "skill." + s.name + ": training.handover_back_from = '" + s.handoverBackFrom +
-                                          "' is not one of its children"));
-    }
-    if (!s.handoverFrom.empty() && !handoverFromAncestor)
-      throw Error(located(path, s.line, "skill." + s.name + ": training.handover_from = '" + s.handoverFrom +
-                                        "' is not one of its ancestors"));
-  }
-  // a branch inherits the controller tables it does not write (gains, action_scale, action_filter, termination,
-  // randomisation) from its parent: resolve from the root down
-  std::set<std::string> resolved;
-  for (const SkillDef& s : tree.skills)
-    if (s.parent.empty()) {
-      if (!given[s.name].gains) throw Error(located(path, s.line, "skill." + s.name + ": the root needs a [gains] table"));
-      resolved.insert(s.name);
-    }
-  while (resolved.size() < tree.skills.size())
-    for (SkillDef& s : tree.skills) {
-      if (resolved.count(s.name) || !resolved.count(s.parent)) continue;
-      const SkillDef& p = *tree.find(s.parent);
-      const Given& g = given[s.name];
-      if (!g.gains) s.kp = p.kp, s.kd = p.kd;
-      if (!g.actionScale) s.actionScale = p.actionScale;
-      if (!g.actionFilter) s.actionFilter = p.actionFilter;
-      if (!g.termination) s.termination = p.termination;
-      if (!g.randomisation) s.randomisation = p.randomisation;
-      resolved.insert(s.name);
-    }
+  checkParentsAndKeys(r, tree);
+  checkAncestry(r, tree);
+  inheritControllerTables(r, given, &tree);
   return tree;
 }
 
