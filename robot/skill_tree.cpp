@@ -108,6 +108,137 @@ struct Reader {
 // A steer (line_steer, heading_steer, a card's steer) turns with wz: the range must reach either side of 0.
 bool turnsBothWays(const CommandDef& c) { return c.wz.lo < 0 && c.wz.hi > 0; }
 
+// [prior] type: the kind of prior
+PriorDef::Kind priorKind(const Reader& r, const toml::table& p, const std::string& where) {
+  const std::string type = p.get("type") && p.get("type")->value<std::string>() ? *p.get("type")->value<std::string>() : "";
+  if (type == "phase") return PriorDef::Kind::Phase;
+  if (type == "pose") return PriorDef::Kind::Pose;
+  if (type == "jump") return PriorDef::Kind::Jump;
+  if (type == "kick") return PriorDef::Kind::Kick;
+  if (type == "keyframes") return PriorDef::Kind::Keyframes;
+  if (type == "none") return PriorDef::Kind::None;
+  throw Error(located(r.file, r.line(p), where + ".prior.type must be \"phase\", \"pose\", \"jump\", \"kick\", \"keyframes\" or \"none\""));
+}
+
+// [prior] offset, swing, late, turn (joint-group tables) and crouch: which kinds need or allow them
+void parsePriorPoses(const Reader& r, const toml::table& p, const std::string& where, const RobotModel& model, PriorDef* prior) {
+  const toml::node* offset = p.get("offset");
+  const bool needsOffset = prior->kind == PriorDef::Kind::Pose || prior->kind == PriorDef::Kind::Jump ||
+                           prior->kind == PriorDef::Kind::Kick;
+  if (needsOffset != (offset != nullptr))
+    throw Error(located(r.file, r.line(p), where + ".prior: \"pose\", \"jump\" and \"kick\" priors need offset = { group = rad, ... }, and only they"));
+  const toml::node* swing = p.get("swing");
+  if ((prior->kind == PriorDef::Kind::Kick) != (swing != nullptr))
+    throw Error(located(r.file, r.line(p), where + ".prior: a \"kick\" prior needs swing = { group = rad, ... }, and only it"));
+  if (swing) {
+    if (!swing->as_table()) throw Error(located(r.file, r.line(*swing), where + ".prior.swing must be a table of joint groups"));
+    r.groups(*swing->as_table(), where + ".prior.swing", model, &prior->swingOffset, nullptr, -3, 3);
+  }
+  if (const toml::node* late = p.get("late")) {
+    if (prior->kind != PriorDef::Kind::Pose)
+      throw Error(located(r.file, r.line(*late), where + ".prior.late is for \"pose\" priors only"));
+    if (!late->as_table()) throw Error(located(r.file, r.line(*late), where + ".prior.late must be a table of joint groups"));
+    r.groups(*late->as_table(), where + ".prior.late", model, &prior->lateOffset, nullptr, -3, 3);
+    prior->hasLate = true;
+  }
+  if (const toml::node* turn = p.get("turn")) {
+    if (!turn->as_table()) throw Error(located(r.file, r.line(*turn), where + ".prior.turn must be a table of joint groups (rad per rad/s of wz)"));
+    r.groups(*turn->as_table(), where + ".prior.turn", model, &prior->turn, nullptr, -1, 1);
+  }
+  prior->crouch = r.number(p, "crouch", 0, 0, 1, where + ".prior");
+  if (offset) {
+    if (!offset->as_table()) throw Error(located(r.file, r.line(*offset), where + ".prior.offset must be a table of joint groups"));
+    r.groups(*offset->as_table(), where + ".prior.offset", model, &prior->poseOffset, nullptr, -3, 3);
+  }
+}
+
+// [prior] keys = [{ t, offset }, ...]: the key poses at increasing times; returns the last key's tick
+int parseKeyframes(const Reader& r, const toml::node& keysNode, const std::string& where, const RobotModel& model, PriorDef* prior) {
+  const toml::array* a = keysNode.as_array();
+  if (!a || a->empty()) throw Error(located(r.file, r.line(keysNode), where + ".prior.keys must be a non-empty list of { t, offset }"));
+  int lastTick = 0;
+  for (const toml::node& kn : *a) {
+    const toml::table* kt = kn.as_table();
+    const std::string kw = where + ".prior.keys";
+    if (!kt) throw Error(located(r.file, r.line(kn), kw + ": each key must be { t = s, offset = { ... } }"));
+    r.onlyKeys(*kt, {"t", "offset"}, kw);
+    const toml::node* tn = kt->get("t");
+    const toml::node* on = kt->get("offset");
+    if (!tn || !on || !on->as_table()) throw Error(located(r.file, r.line(kn), kw + ": each key needs t = s and offset = { group = rad, ... }"));
+    PriorDef::Keyframe key;
+    key.tick = int(std::lround(r.number(*tn, kw + ".t", 0.01, 60) / 0.01));
+    if (key.tick <= lastTick)
+      throw Error(located(r.file, r.line(*tn), kw + ": times must increase (each key after the one before, the first after 0)"));
+    lastTick = key.tick;
+    r.groups(*on->as_table(), kw + ".offset", model, &key.offset, nullptr, -3.2, 3.2);
+    prior->keyframes.push_back(key);
+  }
+  return lastTick;
+}
+
+// [prior] repeat = true: the keyframes cycle, wrapping to the default pose at the last key
+void parseRepeat(const Reader& r, const toml::node& rp, const std::string& where, int lastTick, PriorDef* prior) {
+  const auto b = rp.value<bool>();
+  if (!b) throw Error(located(r.file, r.line(rp), where + ".prior.repeat must be true or false"));
+  if (!*b) return;
+  if (lastTick < 2 || lastTick % 2 != 0)
+    throw Error(located(r.file, r.line(rp), where + ".prior.repeat: the last key's t must be an even number of "
+                                                  "hundredths of a second, at least 0.02 (the phase observation "
+                                                  "goes once round per cycle)"));
+  for (double x : prior->keyframes.back().offset)
+    if (std::abs(x) > 0.05)
+      throw Error(located(r.file, r.line(rp), where + ".prior.repeat: the last key must be within 0.05 rad of the "
+                                                    "default pose (the cycle starts over from it)"));
+  prior->cycleTicks = lastTick;
+  prior->halfPeriodTicks = lastTick / 2;
+}
+
+// [prior] repeat_from = t: a lead-in, then a cycle from the key at t to the last
+void parseRepeatFrom(const Reader& r, const toml::node& rf, const std::string& where, int lastTick, PriorDef* prior) {
+  if (prior->cycleTicks > 0)
+    throw Error(located(r.file, r.line(rf), where + ".prior: repeat = true cycles from the default pose, repeat_from from a key: give one of them"));
+  const int startTick = int(std::lround(r.number(rf, where + ".prior.repeat_from", 0.01, 60) / 0.01));
+  const auto start = std::find_if(prior->keyframes.begin(), prior->keyframes.end(),
+                                  [&](const PriorDef::Keyframe& key) { return key.tick == startTick; });
+  if (start == prior->keyframes.end() || start + 1 == prior->keyframes.end())
+    throw Error(located(r.file, r.line(rf), where + ".prior.repeat_from must be the t of a key before the last (the cycle runs from it to the last key)"));
+  if ((lastTick - startTick) % 2 != 0)
+    throw Error(located(r.file, r.line(rf), where + ".prior.repeat_from: the cycle (last key's t - repeat_from) must be an even number "
+                                                  "of hundredths of a second (the phase observation goes once round per cycle)"));
+  for (size_t j = 0; j < start->offset.size(); ++j)
+    if (std::abs(start->offset[j] - prior->keyframes.back().offset[j]) > 0.05)
+      throw Error(located(r.file, r.line(rf), where + ".prior.repeat_from: the last key must be within 0.05 rad of the key at repeat_from (the cycle starts over from it)"));
+  prior->cycleTicks = lastTick;
+  prior->cycleStartTick = startTick;
+  prior->halfPeriodTicks = (lastTick - startTick) / 2;
+}
+
+// [skill.NAME.prior]
+void parsePrior(const Reader& r, const toml::table& p, const std::string& where, const RobotModel& model, PriorDef* prior) {
+  r.onlyKeys(p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat", "repeat_from", "turn"}, where + ".prior");
+  prior->kind = priorKind(r, p, where);
+  parsePriorPoses(r, p, where, model, prior);
+  prior->halfPeriodTicks = int(r.number(p, "T1", 40, 1, 1000, where + ".prior"));
+  const toml::node* keysNode = p.get("keys");
+  if ((prior->kind == PriorDef::Kind::Keyframes) != (keysNode != nullptr))
+    throw Error(located(r.file, r.line(p), where + ".prior: a \"keyframes\" prior needs keys = [{ t = s, offset = { group = rad, ... } }, ...], and only it"));
+  if (keysNode) {
+    const int lastTick = parseKeyframes(r, *keysNode, where, model, prior);
+    prior->halfPeriodTicks = lastTick;
+    if (const toml::node* rp = p.get("repeat")) parseRepeat(r, *rp, where, lastTick, prior);
+    if (const toml::node* rf = p.get("repeat_from")) parseRepeatFrom(r, *rf, where, lastTick, prior);
+  } else if (p.get("repeat") || p.get("repeat_from")) {
+    const toml::node* rp = p.get("repeat") ? p.get("repeat") : p.get("repeat_from");
+    throw Error(located(r.file, r.line(*rp), where + ".prior.repeat: only a \"keyframes\" prior repeats"));
+  }
+  prior->dh = r.number(p, "dh", 0, -1.5, 1.5, where + ".prior");
+  prior->d0 = r.number(p, "d0", 0, -1.5, 1.5, where + ".prior");
+  prior->stride = r.number(p, "stride", 0, 0, 1, where + ".prior");
+  prior->armSwing = r.number(p, "arm_swing", 0, 0, 2, where + ".prior");
+  if (const toml::node* ss = p.get("stand_still")) prior->standStill = ss->value<bool>().value_or(true);
+  prior->standRampTicks = int(std::lround(r.number(p, "stand_ramp_s", 0, 0, 10, where + ".prior") / 0.01));
+}
+
 // Which of the tables a branch inherits from its parent a skill wrote itself.
 struct Given {
   bool gains = false, actionScale = false, actionFilter = false, termination = false, randomisation = false;
@@ -240,114 +371,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     s.switchInPhase = r.range(*t, "switch_in_phase", {0.0, 1.0}, 0.0, 1.0, where);
     s.settleFirst = r.flag(*t, "settle_first", s.settleFirst, where);
 
-    if (const toml::table* p = r.table(*t, "prior", false, where)) {
-      r.onlyKeys(*p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat", "repeat_from", "turn"}, where + ".prior");
-      const std::string type = p->get("type") && p->get("type")->value<std::string>() ? *p->get("type")->value<std::string>() : "";
-      if (type == "phase") s.prior.kind = PriorDef::Kind::Phase;
-      else if (type == "pose") s.prior.kind = PriorDef::Kind::Pose;
-      else if (type == "jump") s.prior.kind = PriorDef::Kind::Jump;
-      else if (type == "kick") s.prior.kind = PriorDef::Kind::Kick;
-      else if (type == "keyframes") s.prior.kind = PriorDef::Kind::Keyframes;
-      else if (type == "none") s.prior.kind = PriorDef::Kind::None;
-      else throw Error(located(path, r.line(*p), where + ".prior.type must be \"phase\", \"pose\", \"jump\", \"kick\", \"keyframes\" or \"none\""));
-      const toml::node* offset = p->get("offset");
-      const bool needsOffset = s.prior.kind == PriorDef::Kind::Pose || s.prior.kind == PriorDef::Kind::Jump ||
-                               s.prior.kind == PriorDef::Kind::Kick;
-      if (needsOffset != (offset != nullptr))
-        throw Error(located(path, r.line(*p), where + ".prior: \"pose\", \"jump\" and \"kick\" priors need offset = { group = rad, ... }, and only they"));
-      const toml::node* swing = p->get("swing");
-      if ((s.prior.kind == PriorDef::Kind::Kick) != (swing != nullptr))
-        throw Error(located(path, r.line(*p), where + ".prior: a \"kick\" prior needs swing = { group = rad, ... }, and only it"));
-      if (swing) {
-        if (!swing->as_table()) throw Error(located(path, r.line(*swing), where + ".prior.swing must be a table of joint groups"));
-        r.groups(*swing->as_table(), where + ".prior.swing", model, &s.prior.swingOffset, nullptr, -3, 3);
-      }
-      if (const toml::node* late = p->get("late")) {
-        if (s.prior.kind != PriorDef::Kind::Pose)
-          throw Error(located(path, r.line(*late), where + ".prior.late is for \"pose\" priors only"));
-        if (!late->as_table()) throw Error(located(path, r.line(*late), where + ".prior.late must be a table of joint groups"));
-        r.groups(*late->as_table(), where + ".prior.late", model, &s.prior.lateOffset, nullptr, -3, 3);
-        s.prior.hasLate = true;
-      }
-      if (const toml::node* turn = p->get("turn")) {
-        if (!turn->as_table()) throw Error(located(path, r.line(*turn), where + ".prior.turn must be a table of joint groups (rad per rad/s of wz)"));
-        r.groups(*turn->as_table(), where + ".prior.turn", model, &s.prior.turn, nullptr, -1, 1);
-      }
-      s.prior.crouch = r.number(*p, "crouch", 0, 0, 1, where + ".prior");
-      if (offset) {
-        if (!offset->as_table()) throw Error(located(path, r.line(*offset), where + ".prior.offset must be a table of joint groups"));
-        r.groups(*offset->as_table(), where + ".prior.offset", model, &s.prior.poseOffset, nullptr, -3, 3);
-      }
-      s.prior.halfPeriodTicks = int(r.number(*p, "T1", 40, 1, 1000, where + ".prior"));
-      const toml::node* keysNode = p->get("keys");
-      if ((s.prior.kind == PriorDef::Kind::Keyframes) != (keysNode != nullptr))
-        throw Error(located(path, r.line(*p), where + ".prior: a \"keyframes\" prior needs keys = [{ t = s, offset = { group = rad, ... } }, ...], and only it"));
-      if (keysNode) {
-        const toml::array* a = keysNode->as_array();
-        if (!a || a->empty()) throw Error(located(path, r.line(*keysNode), where + ".prior.keys must be a non-empty list of { t, offset }"));
-        int lastTick = 0;
-        for (const toml::node& kn : *a) {
-          const toml::table* kt = kn.as_table();
-          const std::string kw = where + ".prior.keys";
-          if (!kt) throw Error(located(path, r.line(kn), kw + ": each key must be { t = s, offset = { ... } }"));
-          r.onlyKeys(*kt, {"t", "offset"}, kw);
-          const toml::node* tn = kt->get("t");
-          const toml::node* on = kt->get("offset");
-          if (!tn || !on || !on->as_table()) throw Error(located(path, r.line(kn), kw + ": each key needs t = s and offset = { group = rad, ... }"));
-          PriorDef::Keyframe key;
-          key.tick = int(std::lround(r.number(*tn, kw + ".t", 0.01, 60) / 0.01));
-          if (key.tick <= lastTick)
-            throw Error(located(path, r.line(*tn), kw + ": times must increase (each key after the one before, the first after 0)"));
-          lastTick = key.tick;
-          r.groups(*on->as_table(), kw + ".offset", model, &key.offset, nullptr, -3.2, 3.2);
-          s.prior.keyframes.push_back(key);
-        }
-        s.prior.halfPeriodTicks = lastTick;
-        if (const toml::node* rp = p->get("repeat")) {
-          const auto b = rp->value<bool>();
-          if (!b) throw Error(located(path, r.line(*rp), where + ".prior.repeat must be true or false"));
-          if (*b) {
-            if (lastTick < 2 || lastTick % 2 != 0)
-              throw Error(located(path, r.line(*rp), where + ".prior.repeat: the last key's t must be an even number of "
-                                                         "hundredths of a second, at least 0.02 (the phase observation "
-                                                         "goes once round per cycle)"));
-            for (double x : s.prior.keyframes.back().offset)
-              if (std::abs(x) > 0.05)
-                throw Error(located(path, r.line(*rp), where + ".prior.repeat: the last key must be within 0.05 rad of the "
-                                                           "default pose (the cycle starts over from it)"));
-            s.prior.cycleTicks = lastTick;
-            s.prior.halfPeriodTicks = lastTick / 2;
-          }
-        }
-        if (const toml::node* rf = p->get("repeat_from")) {  // a lead-in, then a cycle from one key to the last
-          if (s.prior.cycleTicks > 0)
-            throw Error(located(path, r.line(*rf), where + ".prior: repeat = true cycles from the default pose, repeat_from from a key: give one of them"));
-          const int startTick = int(std::lround(r.number(*rf, where + ".prior.repeat_from", 0.01, 60) / 0.01));
-          const auto start = std::find_if(s.prior.keyframes.begin(), s.prior.keyframes.end(),
-                                          [&](const PriorDef::Keyframe& key) { return key.tick == startTick; });
-          if (start == s.prior.keyframes.end() || start + 1 == s.prior.keyframes.end())
-            throw Error(located(path, r.line(*rf), where + ".prior.repeat_from must be the t of a key before the last (the cycle runs from it to the last key)"));
-          if ((lastTick - startTick) % 2 != 0)
-            throw Error(located(path, r.line(*rf), where + ".prior.repeat_from: the cycle (last key's t - repeat_from) must be an even number "
-                                                     "of hundredths of a second (the phase observation goes once round per cycle)"));
-          for (size_t j = 0; j < start->offset.size(); ++j)
-            if (std::abs(start->offset[j] - s.prior.keyframes.back().offset[j]) > 0.05)
-              throw Error(located(path, r.line(*rf), where + ".prior.repeat_from: the last key must be within 0.05 rad of the key at repeat_from (the cycle starts over from it)"));
-          s.prior.cycleTicks = lastTick;
-          s.prior.cycleStartTick = startTick;
-          s.prior.halfPeriodTicks = (lastTick - startTick) / 2;
-        }
-      } else if (p->get("repeat") || p->get("repeat_from")) {
-        const toml::node* rp = p->get("repeat") ? p->get("repeat") : p->get("repeat_from");
-        throw Error(located(path, r.line(*rp), where + ".prior.repeat: only a \"keyframes\" prior repeats"));
-      }
-      s.prior.dh = r.number(*p, "dh", 0, -1.5, 1.5, where + ".prior");
-      s.prior.d0 = r.number(*p, "d0", 0, -1.5, 1.5, where + ".prior");
-      s.prior.stride = r.number(*p, "stride", 0, 0, 1, where + ".prior");
-      s.prior.armSwing = r.number(*p, "arm_swing", 0, 0, 2, where + ".prior");
-      if (const toml::node* ss = p->get("stand_still")) s.prior.standStill = ss->value<bool>().value_or(true);
-      s.prior.standRampTicks = int(std::lround(r.number(*p, "stand_ramp_s", 0, 0, 10, where + ".prior") / 0.01));
-    }
+    if (const toml::table* p = r.table(*t, "prior", false, where)) parsePrior(r, *p, where, model, &s.prior);
     Given& g = given[s.name];
     if (const toml::table* gt = r.table(*t, "gains", false, where)) {
       g.gains = true;
