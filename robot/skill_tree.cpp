@@ -239,6 +239,82 @@ void parsePrior(const Reader& r, const toml::table& p, const std::string& where,
   prior->standRampTicks = int(std::lround(r.number(p, "stand_ramp_s", 0, 0, 10, where + ".prior") / 0.01));
 }
 
+// [skill.NAME.gains]: [kp, kd] per joint group, every joint given one
+void parseGains(const Reader& r, const toml::table& gt, const std::string& where, const RobotModel& model, SkillDef* s) {
+  r.groups(gt, where + ".gains", model, &s->kp, &s->kd, 0, 5000);
+  for (size_t j = 0; j < size_t(kNumJoints); ++j)
+    if (s->kp[j] <= 0) throw Error(located(r.file, s->line, where + ".gains: no gain for joint " + model.joints[j].name));
+}
+
+// [skill.NAME.action_scale]: rad per policy unit per joint group
+void parseActionScale(const Reader& r, const toml::table& a, const std::string& where, const RobotModel& model, SkillDef* s) {
+  r.groups(a, where + ".action_scale", model, &s->actionScale, nullptr, 0, 2);
+}
+
+// [skill.NAME.commands]; skillLine locates an error without a line of its own
+void parseCommands(const Reader& r, const toml::table& c, const std::string& where, int skillLine, CommandDef* d) {
+  r.onlyKeys(c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "amplitude_zero", "pelvis_height", "zero_probability", "resample_s",
+                  "resample_jitter", "ramp", "line_hold", "steer", "turn_in_place", "line_command",
+                  "step_command", "step_look_back"},
+             where + ".commands");
+  d->amplitude = r.range(c, "amplitude", {}, 0, 1, where + ".commands");
+  d->amplitudeRate = r.number(c, "amplitude_rate", 0, 0, 100, where + ".commands");
+  d->amplitudeZero = r.number(c, "amplitude_zero", 0, 0, 1, where + ".commands");
+  if (const toml::node* h = c.get("pelvis_height")) {
+    const toml::array* a = h->as_array();
+    if (!a || a->size() != 2) throw Error(located(r.file, r.line(*h), where + ".commands.pelvis_height must be [at amplitude 0, at 1]"));
+    d->pelvisHeight = {r.number((*a)[0], where + ".commands.pelvis_height", 0.1, 1.5),
+                       r.number((*a)[1], where + ".commands.pelvis_height", 0.1, 1.5)};
+  }
+  d->vx = r.range(c, "vx", {}, -5, 5, where + ".commands");
+  d->vy = r.range(c, "vy", {}, -5, 5, where + ".commands");
+  d->wz = r.range(c, "wz", {}, -5, 5, where + ".commands");
+  d->zeroProbability = r.number(c, "zero_probability", 0.2, 0, 1, where + ".commands");
+  d->resampleSeconds = r.number(c, "resample_s", 5, 0.1, 1000, where + ".commands");
+  d->resampleJitter = r.number(c, "resample_jitter", 0, 0, 0.9, where + ".commands");
+  d->lineHold = r.number(c, "line_hold", 0, 0, 5, where + ".commands");
+  d->steer = r.number(c, "steer", 0, 0, 2, where + ".commands");
+  d->ramp = r.flag(c, "ramp", d->ramp, where + ".commands");
+  d->turnInPlace = r.flag(c, "turn_in_place", d->turnInPlace, where + ".commands");
+  d->lineCommand = r.flag(c, "line_command", d->lineCommand, where + ".commands");
+  d->stepCommand = r.flag(c, "step_command", d->stepCommand, where + ".commands");
+  d->stepLookBack = r.flag(c, "step_look_back", d->stepLookBack, where + ".commands");
+  if (d->stepLookBack && !d->stepCommand)
+    throw Error(located(r.file, c.get("step_look_back") ? r.line(*c.get("step_look_back")) : skillLine,
+                        where + ".commands: step_look_back needs step_command = true"));
+  if (d->lineCommand && d->stepCommand)
+    throw Error(located(r.file, r.line(*c.get("step_command")), where + ".commands: line_command and step_command both "
+                                                               "use the aux command slots; a skill can have one"));
+}
+
+// [skill.NAME.rewards]: term = weight (the terms are checked where the rewards are built)
+void parseRewards(const Reader& r, const toml::table& w, const std::string& where, SkillDef* s) {
+  for (auto&& [rk, rv] : w) {
+    s->rewardWeights[std::string(rk.str())] = r.number(rv, where + ".rewards." + std::string(rk.str()), -1e6, 1e6);
+    s->rewardLines[std::string(rk.str())] = r.line(rv);
+  }
+}
+
+// [skill.NAME.termination], read whole: the keys left out take the defaults
+void parseTermination(const Reader& r, const toml::table& e, const std::string& where, TerminationDef* d) {
+  r.onlyKeys(e, {"max_tilt_deg", "forward_pitch_deg", "min_height", "episode_s", "lifted_foot_touch_s"},
+             where + ".termination");
+  d->maxForwardPitchDegrees = r.number(e, "forward_pitch_deg", -1, -1, 180, where + ".termination");
+  d->maxTiltDegrees = r.number(e, "max_tilt_deg", 30, 1, 180, where + ".termination");
+  d->minHeight = r.number(e, "min_height", 0.5, 0, 2, where + ".termination");
+  d->episodeSeconds = r.number(e, "episode_s", 10, 0.1, 3600, where + ".termination");
+  d->liftedFootTouchSeconds = r.number(e, "lifted_foot_touch_s", 0, 0, 60, where + ".termination");
+}
+
+// [skill.NAME.randomisation], read whole
+void parseRandomisation(const Reader& r, const toml::table& d, const std::string& where, RandomisationDef* out) {
+  r.onlyKeys(d, {"friction", "added_mass", "push_every_s", "push_speed"}, where + ".randomisation");
+  out->friction = r.range(d, "friction", {1, 1}, 0.05, 5, where + ".randomisation");
+  out->addedMass = r.range(d, "added_mass", {0, 0}, -3, 10, where + ".randomisation");
+  out->pushEverySeconds = r.number(d, "push_every_s", 0, 0, 1000, where + ".randomisation");
+  out->pushSpeed = r.range(d, "push_speed", {0, 0}, 0, 5, where + ".randomisation");
+}
+
 // Which of the tables a branch inherits from its parent a skill wrote itself.
 struct Given {
   bool gains = false, actionScale = false, actionFilter = false, termination = false, randomisation = false;
@@ -375,73 +451,20 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     Given& g = given[s.name];
     if (const toml::table* gt = r.table(*t, "gains", false, where)) {
       g.gains = true;
-      r.groups(*gt, where + ".gains", model, &s.kp, &s.kd, 0, 5000);
-      for (size_t j = 0; j < size_t(kNumJoints); ++j)
-        if (s.kp[j] <= 0) throw Error(located(path, s.line, where + ".gains: no gain for joint " + model.joints[j].name));
+      parseGains(r, *gt, where, model, &s);
     }
     if (const toml::table* a = r.table(*t, "action_scale", false, where)) {
       g.actionScale = true;
-      r.groups(*a, where + ".action_scale", model, &s.actionScale, nullptr, 0, 2);
+      parseActionScale(r, *a, where, model, &s);
     }
     g.actionFilter = t->get("action_filter") != nullptr;
     s.actionFilter = r.number(*t, "action_filter", 0.0, 0.0, 0.99, where);
     g.termination = t->get("termination") != nullptr;
     g.randomisation = t->get("randomisation") != nullptr;
-    if (const toml::table* c = r.table(*t, "commands", false, where)) {
-      r.onlyKeys(*c, {"vx", "vy", "wz", "amplitude", "amplitude_rate", "amplitude_zero", "pelvis_height", "zero_probability", "resample_s",
-                       "resample_jitter", "ramp", "line_hold", "steer", "turn_in_place", "line_command",
-                       "step_command", "step_look_back"},
-                 where + ".commands");
-      s.commands.amplitude = r.range(*c, "amplitude", {}, 0, 1, where + ".commands");
-      s.commands.amplitudeRate = r.number(*c, "amplitude_rate", 0, 0, 100, where + ".commands");
-      s.commands.amplitudeZero = r.number(*c, "amplitude_zero", 0, 0, 1, where + ".commands");
-      if (const toml::node* h = c->get("pelvis_height")) {
-        const toml::array* a = h->as_array();
-        if (!a || a->size() != 2) throw Error(located(path, r.line(*h), where + ".commands.pelvis_height must be [at amplitude 0, at 1]"));
-        s.commands.pelvisHeight = {r.number((*a)[0], where + ".commands.pelvis_height", 0.1, 1.5),
-                                   r.number((*a)[1], where + ".commands.pelvis_height", 0.1, 1.5)};
-      }
-      s.commands.vx = r.range(*c, "vx", {}, -5, 5, where + ".commands");
-      s.commands.vy = r.range(*c, "vy", {}, -5, 5, where + ".commands");
-      s.commands.wz = r.range(*c, "wz", {}, -5, 5, where + ".commands");
-      s.commands.zeroProbability = r.number(*c, "zero_probability", 0.2, 0, 1, where + ".commands");
-      s.commands.resampleSeconds = r.number(*c, "resample_s", 5, 0.1, 1000, where + ".commands");
-      s.commands.resampleJitter = r.number(*c, "resample_jitter", 0, 0, 0.9, where + ".commands");
-      s.commands.lineHold = r.number(*c, "line_hold", 0, 0, 5, where + ".commands");
-      s.commands.steer = r.number(*c, "steer", 0, 0, 2, where + ".commands");
-      s.commands.ramp = r.flag(*c, "ramp", s.commands.ramp, where + ".commands");
-      s.commands.turnInPlace = r.flag(*c, "turn_in_place", s.commands.turnInPlace, where + ".commands");
-      s.commands.lineCommand = r.flag(*c, "line_command", s.commands.lineCommand, where + ".commands");
-      s.commands.stepCommand = r.flag(*c, "step_command", s.commands.stepCommand, where + ".commands");
-      s.commands.stepLookBack = r.flag(*c, "step_look_back", s.commands.stepLookBack, where + ".commands");
-      if (s.commands.stepLookBack && !s.commands.stepCommand)
-        throw Error(located(path, c->get("step_look_back") ? r.line(*c->get("step_look_back")) : s.line,
-                            where + ".commands: step_look_back needs step_command = true"));
-      if (s.commands.lineCommand && s.commands.stepCommand)
-        throw Error(located(path, r.line(*c->get("step_command")), where + ".commands: line_command and step_command both "
-                                                                  "use the aux command slots; a skill can have one"));
-    }
-    if (const toml::table* w = r.table(*t, "rewards", true, where))
-      for (auto&& [rk, rv] : *w) {
-        s.rewardWeights[std::string(rk.str())] = r.number(rv, where + ".rewards." + std::string(rk.str()), -1e6, 1e6);
-        s.rewardLines[std::string(rk.str())] = r.line(rv);
-      }
-    if (const toml::table* e = r.table(*t, "termination", false, where)) {
-      r.onlyKeys(*e, {"max_tilt_deg", "forward_pitch_deg", "min_height", "episode_s", "lifted_foot_touch_s"},
-                 where + ".termination");
-      s.termination.maxForwardPitchDegrees = r.number(*e, "forward_pitch_deg", -1, -1, 180, where + ".termination");
-      s.termination.maxTiltDegrees = r.number(*e, "max_tilt_deg", 30, 1, 180, where + ".termination");
-      s.termination.minHeight = r.number(*e, "min_height", 0.5, 0, 2, where + ".termination");
-      s.termination.episodeSeconds = r.number(*e, "episode_s", 10, 0.1, 3600, where + ".termination");
-      s.termination.liftedFootTouchSeconds = r.number(*e, "lifted_foot_touch_s", 0, 0, 60, where + ".termination");
-    }
-    if (const toml::table* d = r.table(*t, "randomisation", false, where)) {
-      r.onlyKeys(*d, {"friction", "added_mass", "push_every_s", "push_speed"}, where + ".randomisation");
-      s.randomisation.friction = r.range(*d, "friction", {1, 1}, 0.05, 5, where + ".randomisation");
-      s.randomisation.addedMass = r.range(*d, "added_mass", {0, 0}, -3, 10, where + ".randomisation");
-      s.randomisation.pushEverySeconds = r.number(*d, "push_every_s", 0, 0, 1000, where + ".randomisation");
-      s.randomisation.pushSpeed = r.range(*d, "push_speed", {0, 0}, 0, 5, where + ".randomisation");
-    }
+    if (const toml::table* c = r.table(*t, "commands", false, where)) parseCommands(r, *c, where, s.line, &s.commands);
+    parseRewards(r, *r.table(*t, "rewards", true, where), where, &s);
+    if (const toml::table* e = r.table(*t, "termination", false, where)) parseTermination(r, *e, where, &s.termination);
+    if (const toml::table* d = r.table(*t, "randomisation", false, where)) parseRandomisation(r, *d, where, &s.randomisation);
     if (const toml::table* tr = r.table(*t, "training", false, where)) {
       r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx",
                         "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "line_steer", "heading_steer", "heading_steer_share"}, where + ".training");
