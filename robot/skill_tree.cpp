@@ -315,6 +315,178 @@ void parseRandomisation(const Reader& r, const toml::table& d, const std::string
   out->pushSpeed = r.range(d, "push_speed", {0, 0}, 0, 5, where + ".randomisation");
 }
 
+// [skill.NAME.training] line_jitter, line_steer, heading_steer and heading_steer_share: how training steers, which
+// needs the skill's commands
+void parseTrainingSteers(const Reader& r, const toml::table& tr, const std::string& where, SkillDef* s) {
+  if (const toml::node* lj = tr.get("line_jitter")) {
+    if (!s->commands.lineCommand)
+      throw Error(located(r.file, r.line(*lj), where + ".training.line_jitter moves the line a skill sees, and it sees none "
+                                                     "([commands] line_command = true)"));
+    const std::array<double, 2> j = r.pair(tr, "line_jitter", {0.0, 0.0}, 0.0, 2.0, where + ".training");
+    s->lineJitterHeading = j[0], s->lineJitterOffset = j[1];
+  }
+  s->lineSteer = r.number(tr, "line_steer", 0, 0, 100, where + ".training");
+  if (s->lineSteer > 0 && !turnsBothWays(s->commands))
+    throw Error(located(r.file, r.line(*tr.get("line_steer")), where + ".training.line_steer steers with wz, and the skill's "
+                                                                      "commands need a wz range either side of 0 (wz = [-x, x])"));
+  s->headingSteer = r.number(tr, "heading_steer", 0, 0, 100, where + ".training");
+  if (s->headingSteer > 0 && !turnsBothWays(s->commands))
+    throw Error(located(r.file, r.line(*tr.get("heading_steer")), where + ".training.heading_steer steers with wz, and the "
+                                                                         "skill's commands need a wz range either side of 0 (wz = [-x, x])"));
+  s->headingSteerShare = r.number(tr, "heading_steer_share", 1.0, 0.0, 1.0, where + ".training");
+  if (tr.contains("heading_steer_share") && s->headingSteer <= 0)
+    throw Error(located(r.file, r.line(*tr.get("heading_steer_share")), where + ".training.heading_steer_share is the share of "
+                                                                               "episodes heading_steer steers; set heading_steer too"));
+  if (s->headingSteer > 0 && s->lineSteer > 0)
+    throw Error(located(r.file, r.line(*tr.get("heading_steer")), where + ".training: heading_steer and line_steer both set "
+                                                                         "the yaw-rate command; choose one"));
+}
+
+// [skill.NAME.training] handover_back, handover_back_s and handover_back_from: episodes that start under a child
+// (that it is one is checked with the whole tree, checkAncestry)
+void parseHandoverBack(const Reader& r, const toml::table& tr, const std::string& where, SkillDef* s) {
+  s->handoverBack = r.number(tr, "handover_back", 0, 0, 1, where + ".training");
+  s->handoverBackSeconds = r.range(tr, "handover_back_s", {1.0, 3.0}, 0.01, 60, where + ".training");
+  if (const toml::node* hb = tr.get("handover_back_from")) {
+    const std::optional<std::string> name = hb->value<std::string>();
+    if (!name) throw Error(located(r.file, r.line(*hb), where + ".training.handover_back_from must be a skill name"));
+    s->handoverBackFrom = *name;
+  }
+  if (s->handover + s->handoverBack > 1.0)
+    throw Error(located(r.file, r.line(*tr.get("handover_back")), where + ".training.handover + handover_back must be at most 1 "
+                                                                         "(they are shares of the training episodes)"));
+  if ((s->handoverBack > 0) != !s->handoverBackFrom.empty())
+    throw Error(located(r.file, r.line(tr), where + ".training: handover_back and handover_back_from go together (the "
+                                                   "share of episodes that start under a child, and which child)"));
+}
+
+// [skill.NAME.training]: the budget and the handover episodes; after [commands] (the steers need its wz range)
+void parseTraining(const Reader& r, const toml::table& tr, const std::string& where, SkillDef* s) {
+  r.onlyKeys(tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx",
+                  "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "line_steer", "heading_steer", "heading_steer_share"}, where + ".training");
+  if (const toml::node* op = tr.get("only_positive_rewards")) {
+    auto b = op->value<bool>();
+    if (!b) throw Error(located(r.file, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
+    s->onlyPositiveRewards = *b;
+  }
+  s->trainingSteps = int64_t(r.number(tr, "steps", 1e7, 1, 1e10, where + ".training"));
+  s->trainingEnvs = int(r.number(tr, "envs", 20, 1, 1024, where + ".training"));
+  s->handover = r.number(tr, "handover", 0, 0, 1, where + ".training");
+  s->handoverSeconds = r.range(tr, "handover_s", {1.0, 3.0}, 0.01, 60, where + ".training");
+  s->handoverViaSeconds = r.range(tr, "handover_via_s", {0.0, 0.0}, 0.0, 60, where + ".training");
+  s->handoverVx = r.range(tr, "handover_vx", {0.0, 0.0}, -10, 10, where + ".training");
+  if (const toml::node* hf = tr.get("handover_from")) {
+    const std::optional<std::string> name = hf->value<std::string>();
+    if (!name) throw Error(located(r.file, r.line(*hf), where + ".training.handover_from must be a skill name"));
+    s->handoverFrom = *name;
+  }
+  if (const toml::node* hv = tr.get("handover_via_s"); hv && (s->handoverFrom.empty() || s->handoverFrom == s->parent))
+    throw Error(located(r.file, r.line(*hv), where + ".training.handover_via_s is the time in the skills between handover_from "
+                                                   "and this one, and there are none (handover_from is the parent)"));
+  if (s->handover > 0 && s->parent.empty())
+    throw Error(located(r.file, r.line(*tr.get("handover")), where + ".training.handover needs a parent skill"));
+  parseTrainingSteers(r, tr, where, s);
+  parseHandoverBack(r, tr, where, s);
+}
+
+// [skill.NAME.ball]; after [commands] (the ball takes the aux command slots)
+void parseBall(const Reader& r, const toml::table& bt, const std::string& where, SkillDef* s) {
+  const std::string w = where + ".ball";
+  r.onlyKeys(bt, {"offset", "jitter", "absent"}, w);
+  const std::array<double, 2> off = r.pair(bt, "offset", {0.3, -0.12}, -5, 5, w);
+  s->ball.enabled = true;
+  s->ball.x = off[0];
+  s->ball.y = off[1];
+  s->ball.jitter = r.number(bt, "jitter", 0.03, 0, 1, w);
+  s->ball.absent = r.number(bt, "absent", 0.0, 0, 1, w);
+  if (s->commands.lineCommand || s->commands.stepCommand)
+    throw Error(located(r.file, r.line(bt), w + ": a ball skill sees its ball in the aux command slots, so it cannot "
+                                               "also have [commands] line_command or step_command = true"));
+}
+
+// [skill.NAME.terrain]; after [training] (a ceiling needs handover = 1)
+void parseTerrain(const Reader& r, const toml::table& tt, const std::string& where, SkillDef* s) {
+  const std::string w = where + ".terrain";
+  r.onlyKeys(tt, {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at", "height", "spawn_along"}, w);
+  const std::string type = tt.get("type") && tt.get("type")->value<std::string>() ? *tt.get("type")->value<std::string>() : "";
+  if (type != "stairs" && type != "flat" && type != "ceiling")
+    throw Error(located(r.file, r.line(tt), w + ".type must be \"stairs\", \"flat\" or \"ceiling\""));
+  TerrainDef& d = s->terrain;
+  d.kind = type == "stairs" ? TerrainDef::Kind::Stairs : type == "ceiling" ? TerrainDef::Kind::Ceiling : TerrainDef::Kind::Flat;
+  d.ceilingHeight = r.number(tt, "height", 0.6, 0.2, 3, w);
+  if (d.kind == TerrainDef::Kind::Ceiling && s->handover < 1.0)
+    throw Error(located(r.file, r.line(tt), w + ": a ceiling goes over a robot that has lain down: the skill's training needs handover = 1.0"));
+  d.steps = int(r.number(tt, "steps", 10, 1, 100, w));
+  d.stepDepth = r.number(tt, "step_depth", 0.3, 0.1, 2, w);
+  d.startX = r.number(tt, "start_x", 1.0, 0, 20, w);
+  d.topDepth = r.number(tt, "top_depth", 1.5, 0.1, 20, w);
+  d.width = r.number(tt, "width", 4.0, 0.5, 50, w);
+  d.advanceAt = r.number(tt, "advance_at", 1.0, -1e3, 1e3, w);
+  if (const toml::node* l = tt.get("lessons")) {
+    const toml::array* a = l->as_array();
+    if (!a || a->empty()) throw Error(located(r.file, r.line(*l), w + ".lessons must be a non-empty list of step heights"));
+    for (const toml::node& h : *a) d.lessons.push_back(r.number(h, w + ".lessons", 0, 0.5));
+  }
+  d.spawnAlong = r.number(tt, "spawn_along", 0.0, 0.0, 1.0, w);
+  if (d.spawnAlong > 0 && d.kind != TerrainDef::Kind::Stairs)
+    throw Error(located(r.file, r.line(*tt.get("spawn_along")), w + ".spawn_along starts episodes on a staircase's treads: it needs type = \"stairs\""));
+  if (d.kind == TerrainDef::Kind::Stairs && d.lessons.empty())
+    throw Error(located(r.file, r.line(tt), w + ": stairs need lessons = [step heights]"));
+}
+
+// A command curriculum's last lesson is what the skill ships with: it must be the tree entry's own command range and
+// prior. t1 are the T1 lessons as written; errors at the table's line.
+void checkCurriculumEnds(const Reader& r, int line, const std::string& w, const std::vector<double>& t1, const SkillDef& s) {
+  const CurriculumDef& d = s.curriculum;
+  const size_t n = d.lessons();
+  if ((!t1.empty() && t1.size() != n) || (!d.stride.empty() && d.stride.size() != n))
+    throw Error(located(r.file, line, w + ": T1 and stride need one value per lesson (" + std::to_string(n) + ")"));
+  if (!s.terrain.lessons.empty())
+    throw Error(located(r.file, line, w + ": a skill has terrain lessons or a command curriculum, not both"));
+  if ((!t1.empty() || !d.stride.empty()) && s.prior.kind != PriorDef::Kind::Phase)
+    throw Error(located(r.file, line, w + ": T1 and stride lessons are for a \"phase\" prior"));
+  if (!d.amplitudeMax.empty() && std::abs(d.amplitudeMax.back() - s.commands.amplitude.hi) > 1e-9)
+    throw Error(located(r.file, line, w + ".amplitude_max must end at the commands' amplitude top (" +
+                                          std::to_string(s.commands.amplitude.hi) + ")"));
+  if (!d.vxMax.empty() && std::abs(d.vxMax.back() - s.commands.vx.hi) > 1e-9)
+    throw Error(located(r.file, line, w + ".vx_max must end at the commands' vx top (" + std::to_string(s.commands.vx.hi) + ")"));
+  for (double x : d.amplitudeMax)
+    if (x < s.commands.amplitude.lo)
+      throw Error(located(r.file, line, w + ".amplitude_max: every lesson's top must be at least the commands' amplitude bottom"));
+  for (double x : d.vxMax)
+    if (x <= s.commands.vx.lo)
+      throw Error(located(r.file, line, w + ".vx_max: every lesson's top must be above the commands' vx bottom"));
+  if (!d.halfPeriodTicks.empty() && d.halfPeriodTicks.back() != s.prior.halfPeriodTicks)
+    throw Error(located(r.file, line, w + ".T1 must end at the prior's T1 (" + std::to_string(s.prior.halfPeriodTicks) + ")"));
+  if (!d.stride.empty() && std::abs(d.stride.back() - s.prior.stride) > 1e-9)
+    throw Error(located(r.file, line, w + ".stride must end at the prior's stride (" + std::to_string(s.prior.stride) + ")"));
+}
+
+// [skill.NAME.curriculum]; after [prior], [commands] and [terrain], which its lessons must agree with
+void parseCurriculum(const Reader& r, const toml::table& ct, const std::string& where, SkillDef* s) {
+  const std::string w = where + ".curriculum";
+  r.onlyKeys(ct, {"vx_max", "amplitude_max", "T1", "stride", "advance_at"}, w);
+  CurriculumDef& d = s->curriculum;
+  d.advanceAt = r.number(ct, "advance_at", 1.0, -1e3, 1e3, w);
+  auto list = [&](const char* key, double lo, double hi, std::vector<double>* out) {
+    const toml::node* l = ct.get(key);
+    if (!l) return;
+    const toml::array* a = l->as_array();
+    if (!a || a->empty()) throw Error(located(r.file, r.line(*l), w + "." + key + " must be a non-empty list of numbers"));
+    for (const toml::node& x : *a) out->push_back(r.number(x, w + "." + key, lo, hi));
+  };
+  std::vector<double> t1;
+  list("vx_max", 0.01, 10, &d.vxMax);
+  list("amplitude_max", 0.0, 1.0, &d.amplitudeMax);
+  list("T1", 1, 1000, &t1);
+  list("stride", 0, 1, &d.stride);
+  for (double x : t1) d.halfPeriodTicks.push_back(int(std::lround(x)));
+  if (d.vxMax.empty() == d.amplitudeMax.empty())
+    throw Error(located(r.file, r.line(ct), w + " needs one of vx_max = [the forward command's top, per lesson] or "
+                                               "amplitude_max = [the amplitude command's top, per lesson]"));
+  checkCurriculumEnds(r, r.line(ct), w, t1, *s);
+}
+
 // Which of the tables a branch inherits from its parent a skill wrote itself.
 struct Given {
   bool gains = false, actionScale = false, actionFilter = false, termination = false, randomisation = false;
@@ -465,153 +637,10 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     parseRewards(r, *r.table(*t, "rewards", true, where), where, &s);
     if (const toml::table* e = r.table(*t, "termination", false, where)) parseTermination(r, *e, where, &s.termination);
     if (const toml::table* d = r.table(*t, "randomisation", false, where)) parseRandomisation(r, *d, where, &s.randomisation);
-    if (const toml::table* tr = r.table(*t, "training", false, where)) {
-      r.onlyKeys(*tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx",
-                        "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "line_steer", "heading_steer", "heading_steer_share"}, where + ".training");
-      if (const toml::node* op = tr->get("only_positive_rewards")) {
-        auto b = op->value<bool>();
-        if (!b) throw Error(located(path, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
-        s.onlyPositiveRewards = *b;
-      }
-      s.trainingSteps = int64_t(r.number(*tr, "steps", 1e7, 1, 1e10, where + ".training"));
-      s.trainingEnvs = int(r.number(*tr, "envs", 20, 1, 1024, where + ".training"));
-      s.handover = r.number(*tr, "handover", 0, 0, 1, where + ".training");
-      s.handoverSeconds = r.range(*tr, "handover_s", {1.0, 3.0}, 0.01, 60, where + ".training");
-      s.handoverViaSeconds = r.range(*tr, "handover_via_s", {0.0, 0.0}, 0.0, 60, where + ".training");
-      s.handoverVx = r.range(*tr, "handover_vx", {0.0, 0.0}, -10, 10, where + ".training");
-      if (const toml::node* hf = tr->get("handover_from")) {
-        const std::optional<std::string> name = hf->value<std::string>();
-        if (!name) throw Error(located(path, r.line(*hf), where + ".training.handover_from must be a skill name"));
-        s.handoverFrom = *name;
-      }
-      if (const toml::node* hv = tr->get("handover_via_s"); hv && (s.handoverFrom.empty() || s.handoverFrom == s.parent))
-        throw Error(located(path, r.line(*hv), where + ".training.handover_via_s is the time in the skills between handover_from "
-                                               "and this one, and there are none (handover_from is the parent)"));
-      if (s.handover > 0 && s.parent.empty())
-        throw Error(located(path, r.line(*tr->get("handover")), where + ".training.handover needs a parent skill"));
-      if (const toml::node* lj = tr->get("line_jitter")) {
-        if (!s.commands.lineCommand)
-          throw Error(located(path, r.line(*lj), where + ".training.line_jitter moves the line a skill sees, and it sees none "
-                                                 "([commands] line_command = true)"));
-        const std::array<double, 2> j = r.pair(*tr, "line_jitter", {0.0, 0.0}, 0.0, 2.0, where + ".training");
-        s.lineJitterHeading = j[0], s.lineJitterOffset = j[1];
-      }
-      s.lineSteer = r.number(*tr, "line_steer", 0, 0, 100, where + ".training");
-      if (s.lineSteer > 0 && !turnsBothWays(s.commands))
-        throw Error(located(path, r.line(*tr->get("line_steer")), where + ".training.line_steer steers with wz, and the skill's "
-                                                                  "commands need a wz range either side of 0 (wz = [-x, x])"));
-      s.headingSteer = r.number(*tr, "heading_steer", 0, 0, 100, where + ".training");
-      if (s.headingSteer > 0 && !turnsBothWays(s.commands))
-        throw Error(located(path, r.line(*tr->get("heading_steer")), where + ".training.heading_steer steers with wz, and the "
-                                                                     "skill's commands need a wz range either side of 0 (wz = [-x, x])"));
-      s.headingSteerShare = r.number(*tr, "heading_steer_share", 1.0, 0.0, 1.0, where + ".training");
-      if (tr->contains("heading_steer_share") && s.headingSteer <= 0)
-        throw Error(located(path, r.line(*tr->get("heading_steer_share")), where + ".training.heading_steer_share is the share of "
-                                                                           "episodes heading_steer steers; set heading_steer too"));
-      if (s.headingSteer > 0 && s.lineSteer > 0)
-        throw Error(located(path, r.line(*tr->get("heading_steer")), where + ".training: heading_steer and line_steer both set "
-                                                                     "the yaw-rate command; choose one"));
-      s.handoverBack = r.number(*tr, "handover_back", 0, 0, 1, where + ".training");
-      s.handoverBackSeconds = r.range(*tr, "handover_back_s", {1.0, 3.0}, 0.01, 60, where + ".training");
-      if (const toml::node* hb = tr->get("handover_back_from")) {
-        const std::optional<std::string> name = hb->value<std::string>();
-        if (!name) throw Error(located(path, r.line(*hb), where + ".training.handover_back_from must be a skill name"));
-        s.handoverBackFrom = *name;
-      }
-      if (s.handover + s.handoverBack > 1.0)
-        throw Error(located(path, r.line(*tr->get("handover_back")), where + ".training.handover + handover_back must be at most 1 "
-                                                                     "(they are shares of the training episodes)"));
-      if ((s.handoverBack > 0) != !s.handoverBackFrom.empty())
-        throw Error(located(path, r.line(*tr), where + ".training: handover_back and handover_back_from go together (the "
-                                               "share of episodes that start under a child, and which child)"));
-    }
-    if (const toml::table* bt = r.table(*t, "ball", false, where)) {
-      const std::string w = where + ".ball";
-      r.onlyKeys(*bt, {"offset", "jitter", "absent"}, w);
-      const std::array<double, 2> off = r.pair(*bt, "offset", {0.3, -0.12}, -5, 5, w);
-      s.ball.enabled = true;
-      s.ball.x = off[0];
-      s.ball.y = off[1];
-      s.ball.jitter = r.number(*bt, "jitter", 0.03, 0, 1, w);
-      s.ball.absent = r.number(*bt, "absent", 0.0, 0, 1, w);
-      if (s.commands.lineCommand || s.commands.stepCommand)
-        throw Error(located(path, r.line(*bt), w + ": a ball skill sees its ball in the aux command slots, so it cannot "
-                                               "also have [commands] line_command or step_command = true"));
-    }
-    if (const toml::table* tt = r.table(*t, "terrain", false, where)) {
-      const std::string w = where + ".terrain";
-      r.onlyKeys(*tt, {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at", "height", "spawn_along"}, w);
-      const std::string type = tt->get("type") && tt->get("type")->value<std::string>() ? *tt->get("type")->value<std::string>() : "";
-      if (type != "stairs" && type != "flat" && type != "ceiling")
-        throw Error(located(path, r.line(*tt), w + ".type must be \"stairs\", \"flat\" or \"ceiling\""));
-      TerrainDef& d = s.terrain;
-      d.kind = type == "stairs" ? TerrainDef::Kind::Stairs : type == "ceiling" ? TerrainDef::Kind::Ceiling : TerrainDef::Kind::Flat;
-      d.ceilingHeight = r.number(*tt, "height", 0.6, 0.2, 3, w);
-      if (d.kind == TerrainDef::Kind::Ceiling && s.handover < 1.0)
-        throw Error(located(path, r.line(*tt), w + ": a ceiling goes over a robot that has lain down: the skill's training needs handover = 1.0"));
-      d.steps = int(r.number(*tt, "steps", 10, 1, 100, w));
-      d.stepDepth = r.number(*tt, "step_depth", 0.3, 0.1, 2, w);
-      d.startX = r.number(*tt, "start_x", 1.0, 0, 20, w);
-      d.topDepth = r.number(*tt, "top_depth", 1.5, 0.1, 20, w);
-      d.width = r.number(*tt, "width", 4.0, 0.5, 50, w);
-      d.advanceAt = r.number(*tt, "advance_at", 1.0, -1e3, 1e3, w);
-      if (const toml::node* l = tt->get("lessons")) {
-        const toml::array* a = l->as_array();
-        if (!a || a->empty()) throw Error(located(path, r.line(*l), w + ".lessons must be a non-empty list of step heights"));
-        for (const toml::node& h : *a) d.lessons.push_back(r.number(h, w + ".lessons", 0, 0.5));
-      }
-      d.spawnAlong = r.number(*tt, "spawn_along", 0.0, 0.0, 1.0, w);
-      if (d.spawnAlong > 0 && d.kind != TerrainDef::Kind::Stairs)
-        throw Error(located(path, r.line(*tt->get("spawn_along")), w + ".spawn_along starts episodes on a staircase's treads: it needs type = \"stairs\""));
-      if (d.kind == TerrainDef::Kind::Stairs && d.lessons.empty())
-        throw Error(located(path, r.line(*tt), w + ": stairs need lessons = [step heights]"));
-    }
-    if (const toml::table* ct = r.table(*t, "curriculum", false, where)) {
-      const std::string w = where + ".curriculum";
-      r.onlyKeys(*ct, {"vx_max", "amplitude_max", "T1", "stride", "advance_at"}, w);
-      CurriculumDef& d = s.curriculum;
-      d.advanceAt = r.number(*ct, "advance_at", 1.0, -1e3, 1e3, w);
-      auto list = [&](const char* key, double lo, double hi, std::vector<double>* out) {
-        const toml::node* l = ct->get(key);
-        if (!l) return;
-        const toml::array* a = l->as_array();
-        if (!a || a->empty()) throw Error(located(path, r.line(*l), w + "." + key + " must be a non-empty list of numbers"));
-        for (const toml::node& x : *a) out->push_back(r.number(x, w + "." + key, lo, hi));
-      };
-      std::vector<double> t1;
-      list("vx_max", 0.01, 10, &d.vxMax);
-      list("amplitude_max", 0.0, 1.0, &d.amplitudeMax);
-      list("T1", 1, 1000, &t1);
-      list("stride", 0, 1, &d.stride);
-      for (double x : t1) d.halfPeriodTicks.push_back(int(std::lround(x)));
-      const int line = r.line(*ct);
-      if (d.vxMax.empty() == d.amplitudeMax.empty())
-        throw Error(located(path, line, w + " needs one of vx_max = [the forward command's top, per lesson] or "
-                                            "amplitude_max = [the amplitude command's top, per lesson]"));
-      const size_t n = d.lessons();
-      if ((!t1.empty() && t1.size() != n) || (!d.stride.empty() && d.stride.size() != n))
-        throw Error(located(path, line, w + ": T1 and stride need one value per lesson (" + std::to_string(n) + ")"));
-      if (!s.terrain.lessons.empty())
-        throw Error(located(path, line, w + ": a skill has terrain lessons or a command curriculum, not both"));
-      if ((!t1.empty() || !d.stride.empty()) && s.prior.kind != PriorDef::Kind::Phase)
-        throw Error(located(path, line, w + ": T1 and stride lessons are for a \"phase\" prior"));
-      // the last lesson is what the skill ships with: it must be the tree entry's own command range and prior
-      if (!d.amplitudeMax.empty() && std::abs(d.amplitudeMax.back() - s.commands.amplitude.hi) > 1e-9)
-        throw Error(located(path, line, w + ".amplitude_max must end at the commands' amplitude top (" +
-                                            std::to_string(s.commands.amplitude.hi) + ")"));
-      if (!d.vxMax.empty() && std::abs(d.vxMax.back() - s.commands.vx.hi) > 1e-9)
-        throw Error(located(path, line, w + ".vx_max must end at the commands' vx top (" + std::to_string(s.commands.vx.hi) + ")"));
-      for (double x : d.amplitudeMax)
-        if (x < s.commands.amplitude.lo)
-          throw Error(located(path, line, w + ".amplitude_max: every lesson's top must be at least the commands' amplitude bottom"));
-      for (double x : d.vxMax)
-        if (x <= s.commands.vx.lo)
-          throw Error(located(path, line, w + ".vx_max: every lesson's top must be above the commands' vx bottom"));
-      if (!d.halfPeriodTicks.empty() && d.halfPeriodTicks.back() != s.prior.halfPeriodTicks)
-        throw Error(located(path, line, w + ".T1 must end at the prior's T1 (" + std::to_string(s.prior.halfPeriodTicks) + ")"));
-      if (!d.stride.empty() && std::abs(d.stride.back() - s.prior.stride) > 1e-9)
-        throw Error(located(path, line, w + ".stride must end at the prior's stride (" + std::to_string(s.prior.stride) + ")"));
-    }
+    if (const toml::table* tr = r.table(*t, "training", false, where)) parseTraining(r, *tr, where, &s);
+    if (const toml::table* bt = r.table(*t, "ball", false, where)) parseBall(r, *bt, where, &s);
+    if (const toml::table* tt = r.table(*t, "terrain", false, where)) parseTerrain(r, *tt, where, &s);
+    if (const toml::table* ct = r.table(*t, "curriculum", false, where)) parseCurriculum(r, *ct, where, &s);
     if (const toml::table* c = r.table(*t, "card", false, where)) {
       const std::string w = where + ".card";
       r.onlyKeys(*c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
