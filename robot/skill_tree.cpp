@@ -487,6 +487,125 @@ void parseCurriculum(const Reader& r, const toml::table& ct, const std::string& 
   checkCurriculumEnds(r, r.line(ct), w, t1, *s);
 }
 
+// [card] type: the kind of card (*type: as written)
+CardDef::Kind cardKind(const Reader& r, const toml::table& c, const std::string& w, std::string* type) {
+  *type = c.get("type") && c.get("type")->value<std::string>() ? *c.get("type")->value<std::string>() : "";
+  if (*type != "velocity" && *type != "height" && *type != "balance" && *type != "stairs" && *type != "jump" && *type != "kick" &&
+      *type != "prone" && *type != "standup" && *type != "pushup" && *type != "crawl")
+    throw Error(located(r.file, r.line(c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\", \"kick\", \"prone\", \"standup\", \"pushup\" or \"crawl\""));
+  return *type == "velocity" ? CardDef::Kind::Velocity
+         : *type == "height" ? CardDef::Kind::Height
+         : *type == "balance" ? CardDef::Kind::Balance
+         : *type == "stairs"  ? CardDef::Kind::Stairs
+         : *type == "jump"    ? CardDef::Kind::Jump
+         : *type == "kick"    ? CardDef::Kind::Kick
+         : *type == "prone"   ? CardDef::Kind::Prone
+         : *type == "pushup"  ? CardDef::Kind::PushUp
+         : *type == "crawl"   ? CardDef::Kind::Crawl
+                              : CardDef::Kind::StandUp;
+}
+
+// What a card of its kind needs of the skill (a parent that lies it down, an up skill, a tunnel), and lead_in, which
+// only a branch's card of some kinds has
+void parseCardNeeds(const Reader& r, const toml::table& c, const std::string& w, const std::string& type, const SkillDef& s,
+                    CardDef* d) {
+  if (d->kind == CardDef::Kind::StandUp && (s.parent.empty() || s.up.empty()))
+    throw Error(located(r.file, r.line(c), w + ": a standup card needs the skill's parent (it lies down first) and its up skill (it takes over)"));
+  if ((d->kind == CardDef::Kind::PushUp || d->kind == CardDef::Kind::Crawl) && s.parent.empty())
+    throw Error(located(r.file, r.line(c), w + ": a " + type + " card needs the skill's parent (it lies down first)"));
+  if (d->kind == CardDef::Kind::Crawl && s.terrain.kind != TerrainDef::Kind::Ceiling)
+    throw Error(located(r.file, r.line(c), w + ": a crawl card runs in a tunnel: the skill needs [terrain] type = \"ceiling\""));
+  if (const toml::node* li = c.get("lead_in")) {
+    const auto b = li->is_boolean() ? li->value<bool>() : std::nullopt;  // (not 1 or 0)
+    if (!b) throw Error(located(r.file, r.line(*li), w + ".lead_in must be true or false"));
+    if (*b && (s.parent.empty() || (d->kind != CardDef::Kind::Velocity && d->kind != CardDef::Kind::Height &&
+                                    d->kind != CardDef::Kind::Balance && d->kind != CardDef::Kind::Jump &&
+                                    d->kind != CardDef::Kind::Kick)))
+      throw Error(located(r.file, r.line(*li), w + ".lead_in: only a branch's velocity, height, balance, jump or kick card starts with a lead-in"));
+    d->leadIn = *b;
+  }
+}
+
+// A card's success figures: the ground cards' (crawl, push-ups, stand-up), prone, kick, jump, stairs, balance and
+// height; a steering card needs the commands' wz range
+void parseCardFigures(const Reader& r, const toml::table& c, const std::string& w, const CommandDef& commands, CardDef* d) {
+  d->crawlDistance = r.number(c, "crawl_distance", 5, 0.1, 100, w);
+  d->crawlSpeed = r.number(c, "crawl_speed", 0.25, 0.01, 10, w);
+  d->steer = r.number(c, "steer", 0, 0, 100, w);
+  if (d->steer > 0 && ((d->kind != CardDef::Kind::Crawl && d->kind != CardDef::Kind::Stairs) || !turnsBothWays(commands)))
+    throw Error(located(r.file, r.line(*c.get("steer")), w + ".steer: only a crawl or stairs card steers, and the skill's commands "
+                                                            "need a wz range either side of 0 (wz = [-x, x]) to steer with"));
+  d->pushUps = int(r.number(c, "push_ups", 3, 1, 1000, w));
+  d->pushUpRise = r.number(c, "rise", 0.08, 0, 2, w);
+  d->proneSeconds = r.number(c, "prone_s", 3, 0.01, 3600, w);
+  d->proneHeight = r.number(c, "prone_height", 0.35, 0, 2, w);
+  d->pronePitch = r.range(c, "prone_pitch_deg", {70, 110}, -180, 180, w);
+  d->lieSeconds = r.range(c, "lie_s", {3.0, 5.5}, 0.01, 60, w);
+  d->riseSeconds = r.number(c, "rise_s", 5, 0.01, 60, w);
+  d->afterSeconds = r.number(c, "after_s", 3, 0, 600, w);
+  d->kickSpeed = r.number(c, "kick_speed", 2.5, 0, 50, w);
+  d->kickAngleDegrees = r.number(c, "kick_angle_deg", 15, 0, 180, w);
+  d->jumpHeight = r.number(c, "jump_height", 0.10, 0, 2, w);
+  d->jumps = int(r.number(c, "jumps", 3, 1, 100, w));
+  d->stepHeight = r.number(c, "step_height", 0.15, 0, 0.5, w);
+  d->liftHeight = r.number(c, "lift_height", 0.08, 0, 1, w);
+  d->liftSeconds = r.number(c, "lift_s", 5, 0, 3600, w);
+  d->successPercent = r.number(c, "success_pct", -1, -1, 100, w);
+  d->amplitude = r.range(c, "amplitude", {}, 0, 1, w);
+  d->heightError = r.number(c, "height_error", -1, -1, 100, w);
+}
+
+// A card's episodes, their commands and pushes, the standing episodes and the tracking bars
+void parseCardEpisodes(const Reader& r, const toml::table& c, const std::string& w, CardDef* d) {
+  d->episodes = int(r.number(c, "episodes", 50, 1, 100000, w));
+  d->episodeSeconds = r.number(c, "episode_s", 20, 0.1, 3600, w);
+  d->segmentSeconds = r.number(c, "segment_s", d->episodeSeconds, 0.1, 3600, w);
+  d->settleSeconds = r.number(c, "settle_s", 1, 0, 3600, w);
+  d->vx = r.range(c, "vx", {}, -5, 5, w);
+  d->vy = r.range(c, "vy", {}, -5, 5, w);
+  d->wz = r.range(c, "wz", {}, -5, 5, w);
+  if (const toml::node* m = c.get("mix")) {
+    const toml::array* a = m->as_array();
+    double sum = 0;
+    if (!a || a->size() != 4) throw Error(located(r.file, r.line(*m), w + ".mix must be 4 numbers: forward, sideways, turn, zero"));
+    for (size_t i = 0; i < 4; ++i) {
+      d->mix[i] = r.number((*a)[i], w + ".mix", 0, 1);
+      sum += d->mix[i];
+    }
+    if (std::abs(sum - 1.0) > 1e-6) throw Error(located(r.file, r.line(*m), w + ".mix must add up to 1"));
+  }
+  d->ramp = r.flag(c, "ramp", d->ramp, w);
+  if (const toml::node* p2 = c.get("pushes")) {
+    auto b = p2->value<bool>();
+    if (!b) throw Error(located(r.file, r.line(*p2), w + ".pushes must be true or false"));
+    d->pushes = *b;
+  }
+  if (c.get("push_speed")) d->pushSpeed = r.range(c, "push_speed", {}, 0, 5, w);
+  d->pushEverySeconds = r.number(c, "push_every_s", -1, 0.1, 1000, w);
+  d->standEpisodes = int(r.number(c, "stand_episodes", 0, 0, 100000, w));
+  d->standSeconds = r.number(c, "stand_s", 10, 0.1, 3600, w);
+  d->noFallPercent = r.number(c, "no_fall_pct", -1, -1, 100, w);
+  d->speedError = r.number(c, "speed_error", -1, -1, 100, w);
+  d->yawError = r.number(c, "yaw_error", -1, -1, 100, w);
+  d->standDrift = r.number(c, "stand_drift", -1, -1, 100, w);
+}
+
+// [skill.NAME.card]: the report card; after [commands] and [terrain]
+void parseCard(const Reader& r, const toml::table& c, const std::string& where, SkillDef* s) {
+  const std::string w = where + ".card";
+  r.onlyKeys(c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
+                 "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
+                 "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
+                 "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg", "push_every_s",
+                 "lie_s", "rise_s", "after_s", "push_ups", "rise", "crawl_distance", "crawl_speed", "steer", "lead_in"}, w);
+  std::string type;
+  CardDef& d = s->card;
+  d.kind = cardKind(r, c, w, &type);
+  parseCardNeeds(r, c, w, type, *s, &d);
+  parseCardFigures(r, c, w, s->commands, &d);
+  parseCardEpisodes(r, c, w, &d);
+}
+
 // Which of the tables a branch inherits from its parent a skill wrote itself.
 struct Given {
   bool gains = false, actionScale = false, actionFilter = false, termination = false, randomisation = false;
@@ -641,99 +760,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     if (const toml::table* bt = r.table(*t, "ball", false, where)) parseBall(r, *bt, where, &s);
     if (const toml::table* tt = r.table(*t, "terrain", false, where)) parseTerrain(r, *tt, where, &s);
     if (const toml::table* ct = r.table(*t, "curriculum", false, where)) parseCurriculum(r, *ct, where, &s);
-    if (const toml::table* c = r.table(*t, "card", false, where)) {
-      const std::string w = where + ".card";
-      r.onlyKeys(*c, {"type", "episodes", "episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "mix", "pushes",
-                      "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift", "amplitude",
-                      "height_error", "lift_height", "lift_s", "success_pct", "step_height", "jump_height", "jumps",
-                      "kick_speed", "kick_angle_deg", "ramp", "push_speed", "prone_s", "prone_height", "prone_pitch_deg", "push_every_s",
-                      "lie_s", "rise_s", "after_s", "push_ups", "rise", "crawl_distance", "crawl_speed", "steer", "lead_in"}, w);
-      const std::string type = c->get("type") && c->get("type")->value<std::string>() ? *c->get("type")->value<std::string>() : "";
-      if (type != "velocity" && type != "height" && type != "balance" && type != "stairs" && type != "jump" && type != "kick" &&
-          type != "prone" && type != "standup" && type != "pushup" && type != "crawl")
-        throw Error(located(path, r.line(*c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\", \"kick\", \"prone\", \"standup\", \"pushup\" or \"crawl\""));
-      CardDef& d = s.card;
-      d.kind = type == "velocity" ? CardDef::Kind::Velocity
-               : type == "height" ? CardDef::Kind::Height
-               : type == "balance" ? CardDef::Kind::Balance
-               : type == "stairs"  ? CardDef::Kind::Stairs
-               : type == "jump"    ? CardDef::Kind::Jump
-               : type == "kick"    ? CardDef::Kind::Kick
-               : type == "prone"   ? CardDef::Kind::Prone
-               : type == "pushup"  ? CardDef::Kind::PushUp
-               : type == "crawl"   ? CardDef::Kind::Crawl
-                                   : CardDef::Kind::StandUp;
-      if (d.kind == CardDef::Kind::StandUp && (s.parent.empty() || s.up.empty()))
-        throw Error(located(path, r.line(*c), w + ": a standup card needs the skill's parent (it lies down first) and its up skill (it takes over)"));
-      if ((d.kind == CardDef::Kind::PushUp || d.kind == CardDef::Kind::Crawl) && s.parent.empty())
-        throw Error(located(path, r.line(*c), w + ": a " + type + " card needs the skill's parent (it lies down first)"));
-      if (d.kind == CardDef::Kind::Crawl && s.terrain.kind != TerrainDef::Kind::Ceiling)
-        throw Error(located(path, r.line(*c), w + ": a crawl card runs in a tunnel: the skill needs [terrain] type = \"ceiling\""));
-      if (const toml::node* li = c->get("lead_in")) {
-        const auto b = li->is_boolean() ? li->value<bool>() : std::nullopt;  // (not 1 or 0)
-        if (!b) throw Error(located(path, r.line(*li), w + ".lead_in must be true or false"));
-        if (*b && (s.parent.empty() || (d.kind != CardDef::Kind::Velocity && d.kind != CardDef::Kind::Height &&
-                                        d.kind != CardDef::Kind::Balance && d.kind != CardDef::Kind::Jump &&
-                                        d.kind != CardDef::Kind::Kick)))
-          throw Error(located(path, r.line(*li), w + ".lead_in: only a branch's velocity, height, balance, jump or kick card starts with a lead-in"));
-        d.leadIn = *b;
-      }
-      d.crawlDistance = r.number(*c, "crawl_distance", 5, 0.1, 100, w);
-      d.crawlSpeed = r.number(*c, "crawl_speed", 0.25, 0.01, 10, w);
-      d.steer = r.number(*c, "steer", 0, 0, 100, w);
-      if (d.steer > 0 && ((d.kind != CardDef::Kind::Crawl && d.kind != CardDef::Kind::Stairs) || !turnsBothWays(s.commands)))
-        throw Error(located(path, r.line(*c->get("steer")), w + ".steer: only a crawl or stairs card steers, and the skill's commands "
-                                                               "need a wz range either side of 0 (wz = [-x, x]) to steer with"));
-      d.pushUps = int(r.number(*c, "push_ups", 3, 1, 1000, w));
-      d.pushUpRise = r.number(*c, "rise", 0.08, 0, 2, w);
-      d.proneSeconds = r.number(*c, "prone_s", 3, 0.01, 3600, w);
-      d.proneHeight = r.number(*c, "prone_height", 0.35, 0, 2, w);
-      d.pronePitch = r.range(*c, "prone_pitch_deg", {70, 110}, -180, 180, w);
-      d.lieSeconds = r.range(*c, "lie_s", {3.0, 5.5}, 0.01, 60, w);
-      d.riseSeconds = r.number(*c, "rise_s", 5, 0.01, 60, w);
-      d.afterSeconds = r.number(*c, "after_s", 3, 0, 600, w);
-      d.kickSpeed = r.number(*c, "kick_speed", 2.5, 0, 50, w);
-      d.kickAngleDegrees = r.number(*c, "kick_angle_deg", 15, 0, 180, w);
-      d.jumpHeight = r.number(*c, "jump_height", 0.10, 0, 2, w);
-      d.jumps = int(r.number(*c, "jumps", 3, 1, 100, w));
-      d.stepHeight = r.number(*c, "step_height", 0.15, 0, 0.5, w);
-      d.liftHeight = r.number(*c, "lift_height", 0.08, 0, 1, w);
-      d.liftSeconds = r.number(*c, "lift_s", 5, 0, 3600, w);
-      d.successPercent = r.number(*c, "success_pct", -1, -1, 100, w);
-      d.amplitude = r.range(*c, "amplitude", {}, 0, 1, w);
-      d.heightError = r.number(*c, "height_error", -1, -1, 100, w);
-      d.episodes = int(r.number(*c, "episodes", 50, 1, 100000, w));
-      d.episodeSeconds = r.number(*c, "episode_s", 20, 0.1, 3600, w);
-      d.segmentSeconds = r.number(*c, "segment_s", d.episodeSeconds, 0.1, 3600, w);
-      d.settleSeconds = r.number(*c, "settle_s", 1, 0, 3600, w);
-      d.vx = r.range(*c, "vx", {}, -5, 5, w);
-      d.vy = r.range(*c, "vy", {}, -5, 5, w);
-      d.wz = r.range(*c, "wz", {}, -5, 5, w);
-      if (const toml::node* m = c->get("mix")) {
-        const toml::array* a = m->as_array();
-        double sum = 0;
-        if (!a || a->size() != 4) throw Error(located(path, r.line(*m), w + ".mix must be 4 numbers: forward, sideways, turn, zero"));
-        for (size_t i = 0; i < 4; ++i) {
-          d.mix[i] = r.number((*a)[i], w + ".mix", 0, 1);
-          sum += d.mix[i];
-        }
-        if (std::abs(sum - 1.0) > 1e-6) throw Error(located(path, r.line(*m), w + ".mix must add up to 1"));
-      }
-      d.ramp = r.flag(*c, "ramp", d.ramp, w);
-      if (const toml::node* p2 = c->get("pushes")) {
-        auto b = p2->value<bool>();
-        if (!b) throw Error(located(path, r.line(*p2), w + ".pushes must be true or false"));
-        d.pushes = *b;
-      }
-      if (c->get("push_speed")) d.pushSpeed = r.range(*c, "push_speed", {}, 0, 5, w);
-      d.pushEverySeconds = r.number(*c, "push_every_s", -1, 0.1, 1000, w);
-      d.standEpisodes = int(r.number(*c, "stand_episodes", 0, 0, 100000, w));
-      d.standSeconds = r.number(*c, "stand_s", 10, 0.1, 3600, w);
-      d.noFallPercent = r.number(*c, "no_fall_pct", -1, -1, 100, w);
-      d.speedError = r.number(*c, "speed_error", -1, -1, 100, w);
-      d.yawError = r.number(*c, "yaw_error", -1, -1, 100, w);
-      d.standDrift = r.number(*c, "stand_drift", -1, -1, 100, w);
-    }
+    if (const toml::table* c = r.table(*t, "card", false, where)) parseCard(r, *c, where, &s);
     tree.skills.push_back(std::move(s));
   }
   checkParentsAndKeys(r, tree);
