@@ -1,4 +1,6 @@
-// skill_tree.cpp — strict TOML loader for the skill tree.
+// skill_tree.cpp — strict TOML loader for the skill tree: a parser per table of a skill (parsePrior, parseCommands,
+// ..., parseCard), called by parseSkill in an order where each finds what it checks against already read, then the
+// checks that need the whole tree (checkParentsAndKeys, checkAncestry) and the inheritance of controller tables.
 #include "robot/skill_tree.h"
 
 #include <algorithm>
@@ -675,6 +677,86 @@ void inheritControllerTables(const Reader& r, std::map<std::string, Given>& give
     }
 }
 
+// A skill's own keys: parent, up, key (unique in the tree: keys holds those taken), model, switch_in_phase, settle_first
+void parseSkillKeys(const Reader& r, const toml::table& t, const std::string& where, std::set<int>* keys, SkillDef* s) {
+  if (const toml::node* p = t.get("parent")) {
+    auto v2 = p->value<std::string>();
+    if (!v2) throw Error(located(r.file, r.line(*p), where + ".parent must be a skill name (\"\" for the root)"));
+    s->parent = *v2;
+  }
+  if (const toml::node* u = t.get("up")) {
+    auto v2 = u->value<std::string>();
+    if (!v2 || v2->empty()) throw Error(located(r.file, r.line(*u), where + ".up must be a skill name"));
+    s->up = *v2;
+  }
+  // a skill without a key is reached only by routing through it (the stand-up: key 0 while lying); checkParentsAndKeys
+  if (const toml::node* key = t.get("key")) {
+    s->key = int(r.number(*key, where + ".key", 0, 9));
+    if (!keys->insert(s->key).second) throw Error(located(r.file, r.line(*key), where + ": key " + std::to_string(s->key) + " is taken"));
+  }
+  s->model = t.get("model") && t.get("model")->value<std::string>() ? *t.get("model")->value<std::string>() : s->name + ".onnx";
+  s->switchInPhase = r.range(t, "switch_in_phase", {0.0, 1.0}, 0.0, 1.0, where);
+  s->settleFirst = r.flag(t, "settle_first", s->settleFirst, where);
+}
+
+// The controller's tables and keys (gains, action_scale, action_filter), and which of the inheritable ones the skill
+// writes itself (*g)
+void parseController(const Reader& r, const toml::table& t, const std::string& where, const RobotModel& model, SkillDef* s,
+                     Given* g) {
+  if (const toml::table* gt = r.table(t, "gains", false, where)) {
+    g->gains = true;
+    parseGains(r, *gt, where, model, s);
+  }
+  if (const toml::table* a = r.table(t, "action_scale", false, where)) {
+    g->actionScale = true;
+    parseActionScale(r, *a, where, model, s);
+  }
+  g->actionFilter = t.get("action_filter") != nullptr;
+  s->actionFilter = r.number(t, "action_filter", 0.0, 0.0, 0.99, where);
+  g->termination = t.get("termination") != nullptr;
+  g->randomisation = t.get("randomisation") != nullptr;
+}
+
+// [skill.NAME]: its keys, then its tables in an order where each finds what it checks against already read
+SkillDef parseSkill(const Reader& r, const std::string& name, const toml::node& v, const RobotModel& model, std::set<int>* keys,
+                    Given* g) {
+  SkillDef s;
+  s.name = name;
+  s.line = r.line(v);
+  const std::string where = "skill." + s.name;
+  const toml::table* t = v.as_table();
+  if (!t) throw Error(located(r.file, s.line, where + " must be a table"));
+  r.onlyKeys(*t, {"parent", "up", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
+                  "termination", "randomisation", "training", "card", "terrain", "curriculum", "ball", "ppo", "switch_in_phase", "settle_first"},
+             where);
+  parseSkillKeys(r, *t, where, keys, &s);
+  if (const toml::table* p = r.table(*t, "prior", false, where)) parsePrior(r, *p, where, model, &s.prior);
+  parseController(r, *t, where, model, &s, g);
+  if (const toml::table* c = r.table(*t, "commands", false, where)) parseCommands(r, *c, where, s.line, &s.commands);
+  parseRewards(r, *r.table(*t, "rewards", true, where), where, &s);
+  if (const toml::table* e = r.table(*t, "termination", false, where)) parseTermination(r, *e, where, &s.termination);
+  if (const toml::table* d = r.table(*t, "randomisation", false, where)) parseRandomisation(r, *d, where, &s.randomisation);
+  if (const toml::table* tr = r.table(*t, "training", false, where)) parseTraining(r, *tr, where, &s);
+  if (const toml::table* bt = r.table(*t, "ball", false, where)) parseBall(r, *bt, where, &s);
+  if (const toml::table* tt = r.table(*t, "terrain", false, where)) parseTerrain(r, *tt, where, &s);
+  if (const toml::table* ct = r.table(*t, "curriculum", false, where)) parseCurriculum(r, *ct, where, &s);
+  if (const toml::table* c = r.table(*t, "card", false, where)) parseCard(r, *c, where, &s);
+  return s;
+}
+
+// The tree file as TOML, its top-level keys checked
+toml::table readTreeFile(const Reader& r) {
+  const std::string text = engine::readFile(r.file);
+  toml::table root;
+  try {
+    root = toml::parse(text, r.file);
+  } catch (const toml::parse_error& e) {
+    throw Error(located(r.file, int(e.source().begin.line), std::string(e.description())));
+  }
+  r.onlyKeys(root, {"ppo", "skill"}, "the skill tree");
+  return root;
+}
+
 }  // namespace
 
 bool jointInGroup(const std::string& jointName, const std::string& group) {
@@ -688,17 +770,9 @@ const SkillDef* SkillTree::find(const std::string& name) const {
 }
 
 SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
-  Reader r{path};
-  const std::string text = engine::readFile(path);
-  toml::table root;
-  try {
-    root = toml::parse(text, path);
-  } catch (const toml::parse_error& e) {
-    throw Error(located(path, int(e.source().begin.line), std::string(e.description())));
-  }
-  r.onlyKeys(root, {"ppo", "skill"}, "the skill tree");
+  const Reader r{path};
+  const toml::table root = readTreeFile(r);
   SkillTree tree;
-  std::map<std::string, Given> given;  // which inheritable tables each skill wrote itself
   tree.path = path;
   tree.directory = std::filesystem::path(path).parent_path().string();
   if (tree.directory.empty()) tree.directory = ".";  // a bare file name: the models sit beside it, here
@@ -707,61 +781,11 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
     ss << *ppo;
     tree.ppoToml = ss.str();
   }
-  const toml::table* skills = r.table(root, "skill", true, "tree");
+  std::map<std::string, Given> given;  // which inheritable tables each skill wrote itself
   std::set<int> keys;
-  for (auto&& [k, v] : *skills) {
-    SkillDef s;
-    s.name = std::string(k.str());
-    s.line = r.line(v);
-    const std::string where = "skill." + s.name;
-    const toml::table* t = v.as_table();
-    if (!t) throw Error(located(path, s.line, where + " must be a table"));
-    r.onlyKeys(*t, {"parent", "up", "key", "model", "prior", "gains", "action_scale", "action_filter", "commands", "rewards",
-                    "termination", "randomisation", "training", "card", "terrain", "curriculum", "ball", "ppo", "switch_in_phase", "settle_first"},
-               where);
-    if (const toml::node* p = t->get("parent")) {
-      auto v2 = p->value<std::string>();
-      if (!v2) throw Error(located(path, r.line(*p), where + ".parent must be a skill name (\"\" for the root)"));
-      s.parent = *v2;
-    }
-    if (const toml::node* u = t->get("up")) {
-      auto v2 = u->value<std::string>();
-      if (!v2 || v2->empty()) throw Error(located(path, r.line(*u), where + ".up must be a skill name"));
-      s.up = *v2;
-    }
-    // a skill without a key is reached only by routing through it (the stand-up: key 0 while lying); checked below
-    if (const toml::node* key = t->get("key")) {
-      s.key = int(r.number(*key, where + ".key", 0, 9));
-      if (!keys.insert(s.key).second) throw Error(located(path, r.line(*key), where + ": key " + std::to_string(s.key) + " is taken"));
-    }
-    s.model = t->get("model") && t->get("model")->value<std::string>() ? *t->get("model")->value<std::string>() : s.name + ".onnx";
-    s.switchInPhase = r.range(*t, "switch_in_phase", {0.0, 1.0}, 0.0, 1.0, where);
-    s.settleFirst = r.flag(*t, "settle_first", s.settleFirst, where);
-
-    if (const toml::table* p = r.table(*t, "prior", false, where)) parsePrior(r, *p, where, model, &s.prior);
-    Given& g = given[s.name];
-    if (const toml::table* gt = r.table(*t, "gains", false, where)) {
-      g.gains = true;
-      parseGains(r, *gt, where, model, &s);
-    }
-    if (const toml::table* a = r.table(*t, "action_scale", false, where)) {
-      g.actionScale = true;
-      parseActionScale(r, *a, where, model, &s);
-    }
-    g.actionFilter = t->get("action_filter") != nullptr;
-    s.actionFilter = r.number(*t, "action_filter", 0.0, 0.0, 0.99, where);
-    g.termination = t->get("termination") != nullptr;
-    g.randomisation = t->get("randomisation") != nullptr;
-    if (const toml::table* c = r.table(*t, "commands", false, where)) parseCommands(r, *c, where, s.line, &s.commands);
-    parseRewards(r, *r.table(*t, "rewards", true, where), where, &s);
-    if (const toml::table* e = r.table(*t, "termination", false, where)) parseTermination(r, *e, where, &s.termination);
-    if (const toml::table* d = r.table(*t, "randomisation", false, where)) parseRandomisation(r, *d, where, &s.randomisation);
-    if (const toml::table* tr = r.table(*t, "training", false, where)) parseTraining(r, *tr, where, &s);
-    if (const toml::table* bt = r.table(*t, "ball", false, where)) parseBall(r, *bt, where, &s);
-    if (const toml::table* tt = r.table(*t, "terrain", false, where)) parseTerrain(r, *tt, where, &s);
-    if (const toml::table* ct = r.table(*t, "curriculum", false, where)) parseCurriculum(r, *ct, where, &s);
-    if (const toml::table* c = r.table(*t, "card", false, where)) parseCard(r, *c, where, &s);
-    tree.skills.push_back(std::move(s));
+  for (auto&& [k, v] : *r.table(root, "skill", true, "tree")) {
+    const std::string name(k.str());
+    tree.skills.push_back(parseSkill(r, name, v, model, &keys, &given[name]));
   }
   checkParentsAndKeys(r, tree);
   checkAncestry(r, tree);
