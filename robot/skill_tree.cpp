@@ -592,6 +592,42 @@ void parseCardEpisodes(const Reader& r, const toml::table& c, const std::string&
   d->standDrift = r.number(c, "stand_drift", -1, -1, 100, w);
 }
 
+// The keys a card of each kind reads: ai::runVelocityCard runs the velocity, height, balance, stairs, jump, kick and
+// prone cards, ai::runGroundCard the standup, pushup and crawl cards (assets/skills/README.md lists them)
+std::vector<std::string> cardKeys(CardDef::Kind kind) {
+  using K = CardDef::Kind;
+  std::vector<std::string> keys = {"type", "episodes"};
+  auto add = [&](std::initializer_list<const char*> more) { keys.insert(keys.end(), more.begin(), more.end()); };
+  if (kind == K::StandUp || kind == K::PushUp || kind == K::Crawl)
+    add({"lie_s", "success_pct"});
+  else
+    add({"episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "amplitude", "mix", "ramp", "pushes", "push_speed",
+         "push_every_s", "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift"});
+  switch (kind) {
+    case K::Velocity: add({"lead_in"}); break;
+    case K::Height: add({"height_error", "lead_in"}); break;
+    case K::Balance: add({"lift_height", "lift_s", "success_pct", "lead_in"}); break;
+    case K::Stairs: add({"step_height", "steer", "success_pct"}); break;
+    case K::Jump: add({"jump_height", "jumps", "success_pct", "lead_in"}); break;
+    case K::Kick: add({"kick_speed", "kick_angle_deg", "success_pct", "lead_in"}); break;
+    case K::Prone: add({"prone_s", "prone_height", "prone_pitch_deg", "success_pct"}); break;
+    case K::StandUp: add({"rise_s", "after_s"}); break;
+    case K::PushUp: add({"episode_s", "push_ups", "rise"}); break;
+    case K::Crawl: add({"episode_s", "vx", "crawl_distance", "crawl_speed", "steer"}); break;
+    case K::None: break;
+  }
+  return keys;
+}
+
+// Every key of a card is one that its kind reads (checked after the card's other checks)
+void checkCardKeys(const Reader& r, const toml::table& c, const std::string& w, const std::string& type, CardDef::Kind kind) {
+  const std::vector<std::string> allowed = cardKeys(kind);
+  for (auto&& [k, v] : c)
+    if (std::find(allowed.begin(), allowed.end(), k.str()) == allowed.end())
+      throw Error(located(r.file, r.line(v), w + "." + std::string(k.str()) + " is not a key of a " + type +
+                                                 " card (assets/skills/README.md lists each type's keys)"));
+}
+
 // [skill.NAME.card]: the report card; after [commands] and [terrain]
 void parseCard(const Reader& r, const toml::table& c, const std::string& where, SkillDef* s) {
   const std::string w = where + ".card";
@@ -606,6 +642,7 @@ void parseCard(const Reader& r, const toml::table& c, const std::string& where, 
   parseCardNeeds(r, c, w, type, *s, &d);
   parseCardFigures(r, c, w, s->commands, &d);
   parseCardEpisodes(r, c, w, &d);
+  checkCardKeys(r, c, w, type, d.kind);
 }
 
 // Which of the tables a branch inherits from its parent a skill wrote itself.
