@@ -398,6 +398,48 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_EQ(errorOf(good), "");
 }
 
+TEST(SkillTree, ACardTakesOnlyTheKeysItsTypeReads) {
+  const std::string dir = testing::TempDir() + "/tree_card_keys";
+  std::filesystem::create_directories(dir);
+  auto errorOf = [&](const std::string& text) -> std::string {
+    std::ofstream(dir + "/t.toml") << text;
+    try {
+      robot::loadSkillTree(dir + "/t.toml", model());
+    } catch (const engine::Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string walk = "[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" + kWalkGains;
+  // a velocity card has no success figure, and a lift is a balance card's
+  const std::string liftOnVelocity = walk + "[skill.walk.card]\ntype = \"velocity\"\nlift_s = 5.0\n";
+  EXPECT_NE(errorOf(liftOnVelocity).find("t.toml:21: skill.walk.card.lift_s is not a key of a velocity card"), std::string::npos)
+      << errorOf(liftOnVelocity);
+  const std::string successOnVelocity = walk + "[skill.walk.card]\ntype = \"velocity\"\nsuccess_pct = 90\n";
+  EXPECT_NE(errorOf(successOnVelocity).find("t.toml:21: skill.walk.card.success_pct is not a key of a velocity card"),
+            std::string::npos)
+      << errorOf(successOnVelocity);
+  // lead_in = false is no lead-in, but a stairs card has no lead-in to turn off
+  const std::string leadInOnStairs = walk + "[skill.walk.card]\ntype = \"stairs\"\nlead_in = false\n";
+  EXPECT_NE(errorOf(leadInOnStairs).find("t.toml:21: skill.walk.card.lead_in is not a key of a stairs card"), std::string::npos)
+      << errorOf(leadInOnStairs);
+  // a stand-up card runs no commands and no pushes
+  const std::string branch = walk + "[skill.a]\nparent = \"walk\"\nup = \"walk\"\nkey = 1\n[skill.a.rewards]\nlive = 1\n";
+  const std::string mixOnStandUp = branch + "[skill.a.card]\ntype = \"standup\"\nrise_s = 4.0\nmix = [1.0, 0.0, 0.0, 0.0]\n";
+  EXPECT_NE(errorOf(mixOnStandUp).find("t.toml:28: skill.a.card.mix is not a key of a standup card"), std::string::npos)
+      << errorOf(mixOnStandUp);
+  // the existing checks come first: a bad value of a key the type does not read reports the value
+  const std::string badValue = walk + "[skill.walk.card]\ntype = \"velocity\"\nlift_s = -1\n";
+  EXPECT_NE(errorOf(badValue).find("t.toml:21: skill.walk.card.lift_s = "), std::string::npos) << errorOf(badValue);
+  // each type's own keys load
+  EXPECT_EQ(errorOf(walk + "[skill.walk.card]\ntype = \"balance\"\nepisodes = 5\nepisode_s = 8.0\nlift_height = 0.08\n"
+                           "lift_s = 5.0\nsuccess_pct = 90\nno_fall_pct = 90\nmix = [0.0, 0.0, 0.0, 1.0]\n"),
+            "");
+  EXPECT_EQ(errorOf(branch + "[skill.a.card]\ntype = \"standup\"\nepisodes = 5\nlie_s = [3.0, 5.5]\nrise_s = 5.0\n"
+                             "after_s = 3.0\nsuccess_pct = 90\n"),
+            "");
+}
+
 TEST(KeyframesPrior, EasesBetweenKeysAndHoldsTheLastWithTheClockStopped) {
   robot::SkillDef skill;
   skill.prior.kind = robot::PriorDef::Kind::Keyframes;
