@@ -24,20 +24,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// seconds of wall time to simulate `substeps` substeps of a standing G1 (PD every substep)
-double timeStanding(const robot::RobotModel& model, int substeps) {
+// seconds of wall time to simulate `ticks` control ticks of a standing G1 (robot::stepPhysicsTick: PD every substep)
+double timeStanding(const robot::RobotModel& model, int ticks) {
   engine::PhysicsWorld world;
   world.addGround(1.0);
   robot::Robot robot(model, world, 0, 0, 0);
-  for (int i = 0; i < 500; ++i) {  // settle onto the ground first
-    robot.applyPd(world);
-    world.step(robot::kSubstepSeconds);
-  }
+  for (int i = 0; i < 100; ++i) robot::stepPhysicsTick(robot, world);  // settle onto the ground first
   const auto t = Clock::now();
-  for (int i = 0; i < substeps; ++i) {
-    robot.applyPd(world);
-    world.step(robot::kSubstepSeconds);
-  }
+  for (int i = 0; i < ticks; ++i) robot::stepPhysicsTick(robot, world);
   return since(t);
 }
 
@@ -57,16 +51,17 @@ int runBench(const BenchOptions& o) {
   std::printf("treelearn bench (%u hardware threads)\n", std::thread::hardware_concurrency());
 
   // physics: one world on one core, then two worlds on two threads
-  const int substeps = int(o.seconds / robot::kSubstepSeconds);
-  const double one = timeStanding(model, substeps);
+  const int ticks = int(o.seconds / (robot::kSubsteps * robot::kSubstepSeconds));
+  const int substeps = ticks * robot::kSubsteps;
+  const double one = timeStanding(model, ticks);
   const double usPerStep = one / substeps * 1e6;
   report("physics_us_per_substep_1thread", usPerStep, "us", "(target <= 70; MuJoCo ~25 on a comparable model)");
   report("physics_ratio_to_mujoco", usPerStep / 25.0, "x", "(MuJoCo 2.2.2 figure from research/feasibility.md)");
   report("control_ticks_per_s_1thread", substeps / robot::kSubsteps / one, "ticks/s", "(0.01 s ticks, 5 substeps each)");
   double two[2] = {0, 0};
   {
-    std::thread a([&] { two[0] = timeStanding(model, substeps); });
-    std::thread b([&] { two[1] = timeStanding(model, substeps); });
+    std::thread a([&] { two[0] = timeStanding(model, ticks); });
+    std::thread b([&] { two[1] = timeStanding(model, ticks); });
     a.join();
     b.join();
   }
