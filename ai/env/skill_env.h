@@ -1,6 +1,7 @@
 // skill_env.h — N G1 environments for training one skill (a VecEnv): each its own Bullet world, stepped on
-// all cores. Per step: action -> PD targets with the skill's prior -> 5 physics substeps -> reward terms,
-// fall/time-out checks, automatic reset. Commands, pushes and randomisation come from the skill-tree entry.
+// all cores. Per step: the skill runtime's act (robot/skill_runtime.h: filtered action, clock, prior, a handover's
+// fade -> PD targets) -> its physics tick -> reward terms, fall/time-out checks, automatic reset, the command one tick
+// on -> the runtime's observe. Commands, pushes and randomisation come from the skill-tree entry.
 #pragma once
 
 #include <functional>
@@ -9,8 +10,8 @@
 #include <vector>
 
 #include "ai/env/vec_env.h"
-#include "engine/core/worker_pool.h"
 #include "ai/rewards/reward_terms.h"
+#include "engine/core/worker_pool.h"
 #include "robot/skill_runtime.h"
 
 namespace ai {
