@@ -218,18 +218,23 @@ TEST(SkillTree, ATreeNamedWithoutAFolderFindsItsModelsInTheWorkingFolder) {
   EXPECT_EQ(robot::loadSkillTree(dir + "/t.toml", model()).directory, dir);
 }
 
-TEST(SkillTree, BadEntriesAreLocated) {
-  const std::string dir = testing::TempDir() + "/tree_bad";
+namespace {
+// the error loading `text` as a tree file (t.toml in a temp folder `name`), or "" when it loads
+std::string treeError(const std::string& name, const std::string& text) {
+  const std::string dir = testing::TempDir() + "/" + name;
   std::filesystem::create_directories(dir);
-  auto errorOf = [&](const std::string& text) -> std::string {
-    std::ofstream(dir + "/t.toml") << text;
-    try {
-      robot::loadSkillTree(dir + "/t.toml", model());
-    } catch (const engine::Error& e) {
-      return e.what();
-    }
-    return "";
-  };
+  std::ofstream(dir + "/t.toml") << text;
+  try {
+    robot::loadSkillTree(dir + "/t.toml", model());
+  } catch (const engine::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(SkillTree, BadEntriesAreLocated) {
+  auto errorOf = [](const std::string& text) { return treeError("tree_bad", text); };
   const std::string gains = kWalkGains;
   EXPECT_NE(errorOf("[skill.walk]\nparent = \"\"\nkey = 0\nspeed = 3\n").find("t.toml:4: unknown key 'speed'"),
             std::string::npos);
@@ -399,17 +404,7 @@ TEST(SkillTree, BadEntriesAreLocated) {
 }
 
 TEST(SkillTree, ACardTakesOnlyTheKeysItsTypeReads) {
-  const std::string dir = testing::TempDir() + "/tree_card_keys";
-  std::filesystem::create_directories(dir);
-  auto errorOf = [&](const std::string& text) -> std::string {
-    std::ofstream(dir + "/t.toml") << text;
-    try {
-      robot::loadSkillTree(dir + "/t.toml", model());
-    } catch (const engine::Error& e) {
-      return e.what();
-    }
-    return "";
-  };
+  auto errorOf = [](const std::string& text) { return treeError("tree_card_keys", text); };
   const std::string walk = "[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" + kWalkGains;
   // a velocity card has no success figure, and a lift is a balance card's
   const std::string liftOnVelocity = walk + "[skill.walk.card]\ntype = \"velocity\"\nlift_s = 5.0\n";
