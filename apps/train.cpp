@@ -57,10 +57,14 @@ PrintedCard printCard(const ai::SkillContext& l, const ai::PolicyFn& act, const 
 
 int runTrain(const TrainOptions& o) {
   const ai::SkillContext l = ai::loadSkillContext(o.skill);
-  ai::trainSkill(l, o, printLine, [](ai::Trainer* t) {
+  const ai::TrainSkillResult r = ai::trainSkill(l, o, printLine, [](ai::Trainer* t) {
     gTrainer = t;
     std::signal(SIGINT, t ? onSigint : SIG_DFL);
   });
+  if (o.resume && r.iterationsRun == 0)
+    std::fprintf(stderr, "note: the checkpoint in %s is already at %lld env steps (iteration %lld), at or past --steps %lld: "
+                 "nothing was trained; give a larger --steps to go on\n", r.runDir.c_str(), (long long)r.envSteps,
+                 (long long)r.iteration, (long long)r.steps);
   return 0;
 }
 

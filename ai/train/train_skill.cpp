@@ -200,10 +200,6 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   if (onTrainer) onTrainer(&trainer);
   trainer.run();
   if (onTrainer) onTrainer(nullptr);
-  if (o.resume && iterationsRun == 0)
-    say(log, "note: the checkpoint in %s is already at %lld env steps (iteration %lld), at or past --steps %lld: "
-                 "nothing was trained; give a larger --steps to go on\n", runDir.c_str(), (long long)trainer.envSteps(),
-                 (long long)trainer.iteration(), (long long)steps);
 
   // export the best-by-evaluation policy if there is one, else the final one
   const std::string best = runDir + "/best.bin";
@@ -211,7 +207,7 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   PolicyInfo info{ppoConfigHash(config), trainer.iteration(), trainer.envSteps(), std::nan("")};
   const PolicyState chosen = haveBest ? loadPolicyState(best, &info) : trainer.policy();
   exportToRun(l, runDir, chosen, info, o.seed, haveBest ? "best-by-evaluation policy" : "final policy", log);
-  return {runDir, iterationsRun};
+  return {runDir, iterationsRun, trainer.iteration(), trainer.envSteps(), steps};
 }
 
 std::string exportedModelPath(const std::string& runDir, const robot::SkillDef& skill) { return runDir + "/" + skill.model; }
