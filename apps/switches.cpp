@@ -1,11 +1,9 @@
 // switches.cpp — the skills as `play` loads them (ONNX models into the runtime's SkillSet), and `treelearn eval
 // switches`: the switch matrix (game/switch_matrix.h) on levels/flat, printed.
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <random>
 
 #include "ai/onnx/policy_onnx.h"
 #include "ai/onnx/skill_metadata.h"
@@ -41,10 +39,6 @@ robot::SkillSet loadSkills(const robot::RobotModel& model) {
   set.hash = set.skills.empty() ? 0 : h.value();
   return set;
 }
-
-namespace {
-
-}  // namespace
 
 int runSwitchEval(const SwitchEvalOptions& o) {
   const robot::RobotModel model = robot::loadRobotModel(engine::projectFile("assets/robots/g1_23dof.toml"));

@@ -269,7 +269,6 @@ void SkillEnv::advanceCommand(Env& e) const {
 
 // a handover episode's start: runHandover along route_ (the parent, then the skills routed through)
 bool SkillEnv::handOver(Env& e, bool back, robot::SkillCommand* commandAtSwitch) {
-  e.state = robot::SkillState{};
   if (!runHandover(model_, e.model, *e.world, *e.robot, &e.sensors, back ? backRoute_ : route_, e.rng, &e.state,
                    commandAtSwitch))
     return false;
