@@ -74,7 +74,7 @@ int runTrain(const TrainOptions& options);
 /// `treelearn tree`: the skill tree with parents, keys, model hashes and each shipped model's recorded card.
 int runTree();
 /// Where `treelearn eval SKILL` keeps the shipped model's card: assets/skills/SKILL.card.txt.
-std::string cardRecordPath(const robot::SkillTree& tree, const robot::SkillDef& skill);
+std::string cardRecordPath(const ai::TrainingTree& tree, const robot::SkillDef& skill);
 int runExport(const TrainOptions& options);
 /// `treelearn ship SKILL --from RUN`: runs the skill's card on RUN's exported model and, when it passes (or with
 /// force), installs RUN/SKILL.onnx and RUN/SKILL.policy.bin into the tree's folder and records the card there.

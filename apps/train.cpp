@@ -76,8 +76,8 @@ int runExport(const TrainOptions& o) {
 
 int runEval(const EvalOptions& o) {
   const ai::SkillContext l = ai::loadSkillContext(o.skill);
-  const robot::CardDef& def = l.skill->card;
-  if (def.kind == robot::CardDef::Kind::None)
+  const ai::CardDef& def = l.skill->card;
+  if (def.kind() == ai::CardKind::None)
     throw engine::Error(l.tree.path + ": skill '" + o.skill + "' has no [skill." + o.skill + ".card] table, so it has no report card");
   if (o.priorOnly && (o.sweep || !o.model.empty()))
     throw engine::Error("eval --prior-only runs the card with zero network output: it takes no --model or --sweep");
@@ -148,7 +148,7 @@ int runEval(const EvalOptions& o) {
 int runShip(const ShipOptions& o) {
   namespace fs = std::filesystem;
   const ai::SkillContext l = ai::loadSkillContext(o.skill);
-  const robot::SkillDef& skill = *l.skill;
+  const ai::SkillSpec& skill = *l.skill;
   const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
   if (!fs::is_directory(runDir))
     throw engine::Error(runDir + ": no such run folder (`treelearn train " + skill.name + " --run-dir " + runDir + "` makes one)");
@@ -189,7 +189,7 @@ int runShip(const ShipOptions& o) {
   std::printf("shipping %s (hash %s; iteration %lld, %lld env steps, %s) as %s, if its report card passes:\n",
               onnxPath.c_str(), hash.c_str(), (long long)info.iteration, (long long)info.envSteps, score, installedOnnx.c_str());
   std::string record;  // the card as `eval` records it for the installed model
-  if (skill.card.kind == robot::CardDef::Kind::None) {
+  if (skill.card.kind() == ai::CardKind::None) {
     if (!o.force)
       throw engine::Error(l.tree.path + ": skill '" + skill.name + "' has no [skill." + skill.name +
                           ".card] table, so its model cannot be judged (ship --force installs it without a card)");
@@ -228,17 +228,17 @@ int runEvalAll(const EvalOptions& o) {
   if (o.priorOnly || o.sweep || !o.model.empty())
     throw engine::Error("eval all runs every shipped model's card and the switches: it takes no --prior-only, --sweep or --model");
   const robot::RobotModel model = robot::loadRobotModel(engine::projectFile("assets/robots/g1_23dof.toml"));
-  const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
+  const ai::TrainingTree tree = ai::loadTrainingTree(robot::defaultSkillTreePath(), model);
   std::vector<std::pair<std::string, std::string>> results;
   int connected = 0;
-  for (const robot::SkillDef& s : tree.skills) {
+  for (const ai::SkillSpec& s : tree.skills) {
     const bool hasModel = std::filesystem::exists(tree.directory + "/" + s.model);
     connected += hasModel && !s.parent.empty() && std::filesystem::exists(tree.directory + "/" + tree.find(s.parent)->model);
     if (!hasModel) {
       results.push_back({s.name, "FAIL (no model: treelearn train " + s.name + ")"});
       continue;
     }
-    if (s.card.kind == robot::CardDef::Kind::None) {
+    if (s.card.kind() == ai::CardKind::None) {
       results.push_back({s.name, "FAIL (no card in the tree file)"});
       continue;
     }

@@ -17,14 +17,14 @@
 
 namespace apps {
 
-std::string cardRecordPath(const robot::SkillTree& tree, const robot::SkillDef& skill) {
+std::string cardRecordPath(const ai::TrainingTree& tree, const robot::SkillDef& skill) {
   return tree.directory + "/" + skill.name + ".card.txt";
 }
 
 namespace {
 
 // "PASS", "FAIL", "stale" (recorded for another model file) or "not evaluated"
-std::string cardStatus(const robot::SkillTree& tree, const robot::SkillDef& skill, const std::string& modelHash) {
+std::string cardStatus(const ai::TrainingTree& tree, const ai::SkillSpec& skill, const std::string& modelHash) {
   const std::string path = cardRecordPath(tree, skill);
   if (!std::filesystem::exists(path)) return "not evaluated";
   const std::string text = engine::readFile(path);
@@ -38,11 +38,11 @@ std::string cardStatus(const robot::SkillTree& tree, const robot::SkillDef& skil
 
 int runTree() {
   const robot::RobotModel model = robot::loadRobotModel(engine::projectFile("assets/robots/g1_23dof.toml"));
-  const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
+  const ai::TrainingTree tree = ai::loadTrainingTree(robot::defaultSkillTreePath(), model);
   std::printf("skill tree %s (%zu skills)\n", tree.path.c_str(), tree.skills.size());
   std::printf("  %-22s %-4s %-18s %-18s %-10s %s\n", "skill", "key", "model", "hash", "env steps", "card");
-  std::function<void(const robot::SkillDef&, const std::string&, bool, bool)> show =
-      [&](const robot::SkillDef& s, const std::string& indent, bool last, bool root) {
+  std::function<void(const ai::SkillSpec&, const std::string&, bool, bool)> show =
+      [&](const ai::SkillSpec& s, const std::string& indent, bool last, bool root) {
         const std::string label = root ? s.name : indent + (last ? "└─ " : "├─ ") + s.name;
         const std::string path = tree.directory + "/" + s.model;
         std::string hash = "-", steps = "-", card = "no model";
@@ -56,7 +56,7 @@ int runTree() {
             m << std::stod(it->second) / 1e6 << " M";
             steps = m.str();
           }
-          card = s.card.kind == robot::CardDef::Kind::None ? "no card defined" : cardStatus(tree, s, hash);
+          card = s.card.kind() == ai::CardKind::None ? "no card defined" : cardStatus(tree, s, hash);
           try {
             ai::checkModelMatchesSkill(p, path, model, s, tree.path);
           } catch (const engine::Error&) {
@@ -68,14 +68,14 @@ int runTree() {
         const std::string key = s.key >= 0 ? std::to_string(s.key) : "-";  // keyless: reached by routing through it
         std::printf("  %-*s %-4s %-18s %-18s %-10s %s\n", 22 + extraBytes, label.c_str(), key.c_str(), s.model.c_str(), hash.c_str(),
                     steps.c_str(), card.c_str());
-        std::vector<const robot::SkillDef*> children;
-        for (const robot::SkillDef& c : tree.skills)
+        std::vector<const ai::SkillSpec*> children;
+        for (const ai::SkillSpec& c : tree.skills)
           if (c.parent == s.name) children.push_back(&c);
         std::sort(children.begin(), children.end(), [](auto* a, auto* b) { return a->key < b->key; });
         const std::string childIndent = root ? "" : indent + (last ? "   " : "│  ");
         for (size_t i = 0; i < children.size(); ++i) show(*children[i], childIndent, i + 1 == children.size(), false);
       };
-  for (const robot::SkillDef& s : tree.skills)
+  for (const ai::SkillSpec& s : tree.skills)
     if (s.parent.empty()) show(s, "", true, true);
   std::printf("card: the record `treelearn eval SKILL` keeps in %s/SKILL.card.txt for the shipped model\n",
               tree.directory.c_str());

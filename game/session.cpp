@@ -151,7 +151,7 @@ void Session::controlSystem() {
   }
   telemetry_.skillsUsed.insert(runtime_.active->def.name);
   robot::SkillCommand command = robot::shapeCommand(&runtime_, sensors_, request);
-  if (runtime_.active->def.ball.enabled && course_ && course_->firstBall() >= 0) {
+  if (runtime_.active->def.commands.ballCommand && course_ && course_->firstBall() >= 0) {
     // a ball skill sees the level's ball where training showed it its own (aux slots, heading frame)
     robot::ballIntoCommand(sensors_, physics_.ballState(course_->firstBall()).position, &command);
   }

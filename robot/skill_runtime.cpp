@@ -166,12 +166,12 @@ void enterSkill(SkillState* state, const Skill& next, const Sensors& sensors, in
 
 namespace {
 
-// A ground skill that trained steered back toward the line it began on ([training] line_steer: the crawl) is steered
+// A ground skill that trained steered back toward the line it began on ([commands] line_steer: the crawl) is steered
 // so while it moves with no turn key, by the same law as its training and its card. A turn key takes over; once it is
 // released the line starts again where the robot is, the way it faces then.
 void steerToLine(SkillState* state, const Sensors& sensors, bool moving, SkillCommand* command) {
   const SkillDef& def = state->active->def;
-  if (def.lineSteer <= 0.0) return;
+  if (def.commands.lineSteer <= 0.0) return;
   if (command->wz != 0.0) {
     state->lineStart = sensors.basePosition.head<2>();
     state->lineAlong = groundHeading(sensors);
@@ -181,7 +181,7 @@ void steerToLine(SkillState* state, const Sensors& sensors, bool moving, SkillCo
   if (!moving || state->restWaitTicks >= 0) return;
   SkillCommand line;
   lineIntoCommand(sensors, state->lineStart, state->lineAlong, &line);
-  command->wz = steerTowardLine(def.commands, def.lineSteer, line, &state->lineSteerError);
+  command->wz = steerTowardLine(def.commands, def.commands.lineSteer, line, &state->lineSteerError);
 }
 
 // W / S (or the sideways keys) with no turn key: an upright skill that can turn keeps to the line the robot was on

@@ -99,7 +99,7 @@ struct SkillState {
   SkillCommand brakeTarget;  ///< ... and where it ramps to (robot::switchBrakeTarget)
   Eigen::Vector2d drift = Eigen::Vector2d::Zero();  ///< the pelvis's low-passed velocity (robot::updateDrift)
   /// the skill's own line: where it took over and the way it faced then ([commands] line_command observes it,
-  /// [training] line_steer steers back to it); the line error averaged as the steer averages it
+  /// [commands] line_steer steers back to it); the line error averaged as the steer averages it
   Eigen::Vector2d lineStart = Eigen::Vector2d::Zero(), lineAlong = Eigen::Vector2d::UnitX();
   double lineSteerError = 0;
   /// the heading hold of play's keys (shapeCommand): the heading W holds and a point of the line it keeps to

@@ -6,7 +6,7 @@
 
 namespace ai {
 
-engine::BallId placeBall(engine::PhysicsWorld& world, const robot::BallTaskDef& task, const robot::Sensors& start,
+engine::BallId placeBall(engine::PhysicsWorld& world, const BallTaskDef& task, const robot::Sensors& start,
                          std::mt19937_64& rng, Eigen::Vector2d* targetDirection) {
   auto jitter = [&] { return task.jitter * (2.0 * (double(rng() >> 11) * (1.0 / 9007199254740992.0)) - 1.0); };
   const double c = std::cos(start.yaw), s = std::sin(start.yaw);

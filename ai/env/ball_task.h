@@ -7,13 +7,13 @@
 #include "engine/physics/physics_world.h"
 #include "robot/robot.h"
 #include "robot/skill_layout.h"
-#include "robot/skill_tree.h"
+#include "ai/tree/training_tree.h"
 
 namespace ai {
 
 /// Adds the ball at the skill's offset from the pelvis (heading frame) plus jitter; returns its id and the
 /// target direction (the robot's heading at the start, a world unit vector in the ground plane).
-engine::BallId placeBall(engine::PhysicsWorld& world, const robot::BallTaskDef& task, const robot::Sensors& start,
+engine::BallId placeBall(engine::PhysicsWorld& world, const BallTaskDef& task, const robot::Sensors& start,
                          std::mt19937_64& rng, Eigen::Vector2d* targetDirection);
 
 /// robot::ballIntoCommand for a ball state.

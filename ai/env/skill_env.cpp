@@ -24,12 +24,12 @@ double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.h
 // one velocity draw with the keyboard's interlock: one of vx, vy, wz non-zero, or all zero. Forward gets half of
 // the non-zero commands, sideways and turning a quarter each; a kind whose range is [0, 0] (not used by the
 // skill) gives its share to the others
-void drawVelocity(std::mt19937_64& rng, const robot::CommandDef& c, robot::SkillCommand* out) {
+void drawVelocity(std::mt19937_64& rng, const robot::CommandDef& c, const CommandDraws& d, robot::SkillCommand* out) {
   const double pick = unit(rng);
-  if (pick < c.zeroProbability) return;
+  if (pick < d.zeroProbability) return;
   auto used = [](const robot::Range& r) { return r.lo != 0.0 || r.hi != 0.0; };
-  const double wx = used(c.vx) ? 0.5 : 0.0, wy = used(c.vy) ? 0.25 : 0.0, ww = used(c.wz) && c.turnInPlace ? 0.25 : 0.0;
-  const double which = (pick - c.zeroProbability) / (1.0 - c.zeroProbability) * (wx + wy + ww);
+  const double wx = used(c.vx) ? 0.5 : 0.0, wy = used(c.vy) ? 0.25 : 0.0, ww = used(c.wz) && d.turnInPlace ? 0.25 : 0.0;
+  const double which = (pick - d.zeroProbability) / (1.0 - d.zeroProbability) * (wx + wy + ww);
   if (which < wx) out->vx = uniform(rng, c.vx);
   else if (which < wx + wy) out->vy = uniform(rng, c.vy);
   else if (ww > 0) out->wz = uniform(rng, c.wz);
@@ -59,7 +59,7 @@ struct SkillEnv::Env {
   double amplitudeTarget = 0;  // where a ramped amplitude command is heading
   robot::SkillCommand target;  // the latest draw, which a ramped velocity command is heading for
   bool headingSteered = false;  // [training] heading_steer steers this episode (heading_steer_share)
-  double steer = 0;    // [commands] steer: the draw's turn while moving, on top of the interlocked command
+  double steer = 0;    // [draws] steer: the draw's turn while moving, on top of the interlocked command
   double keysWz = 0;   // the interlocked (keys') yaw rate, without the steer
   int startStep = 0;  // rollout step the episode began at (curriculum)
   engine::BallId ball = -1;             // the kick's ball (-1: none)
@@ -70,7 +70,7 @@ struct SkillEnv::Env {
   double yawRateSmoothed = 0;  // line_turn: the world yaw rate, low-passed over kLineTurnSeconds
 };
 
-SkillEnv::SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
+SkillEnv::SkillEnv(const robot::RobotModel& model, const SkillSpec& skill, const std::string& treePath,
                    const SkillEnvOptions& options)
     : model_(model), skill_(skill), treeSkill_(skill), terms_(resolveRewardTerms(skill, treePath)), options_(options),
       pool_(options.threads) {
@@ -118,7 +118,7 @@ double SkillEnv::advanceAt() const {
 }
 
 void SkillEnv::applyLesson() {
-  const robot::CurriculumDef& c = treeSkill_.curriculum;
+  const CurriculumDef& c = treeSkill_.curriculum;
   if (c.lessons() == 0) return makeRoutes();
   const size_t l = size_t(std::clamp(lesson_, 0, int(c.lessons()) - 1));
   if (!c.vxMax.empty()) skill_.commands.vx.hi = c.vxMax[l];
@@ -145,28 +145,29 @@ double SkillEnv::physicsSeconds() const {
 // commands follow the keyboard's interlock: one of vx, vy, wz non-zero, or all zero
 void SkillEnv::sampleCommand(Env& e) {
   const robot::CommandDef& c = skill_.commands;
+  const CommandDraws& d = skill_.draws;
   const robot::SkillCommand now = e.command;  // ramped commands continue from where they are
   e.command = robot::SkillCommand{};
-  drawVelocity(e.rng, c, &e.command);
+  drawVelocity(e.rng, c, d, &e.command);
   if (c.amplitude.hi > 0) {
     e.amplitudeTarget = uniform(e.rng, c.amplitude);
     // drawn only when asked for, so other skills' streams are unchanged
-    if (c.amplitudeZero > 0 && unit(e.rng) < c.amplitudeZero) e.amplitudeTarget = 0.0;
-    e.command.amplitude = c.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
+    if (d.amplitudeZero > 0 && unit(e.rng) < d.amplitudeZero) e.amplitudeTarget = 0.0;
+    e.command.amplitude = d.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
   }
-  robot::takeCommandDraw(now, c.ramp, &e.command, &e.target);
-  if (c.steer > 0) {  // drawn only when asked for, so other skills' streams are unchanged
-    const double turn = c.steer * (2.0 * unit(e.rng) - 1.0);
+  robot::takeCommandDraw(now, d.ramp, &e.command, &e.target);
+  if (d.steer > 0) {  // drawn only when asked for, so other skills' streams are unchanged
+    const double turn = d.steer * (2.0 * unit(e.rng) - 1.0);
     e.steer = e.target.vx != 0.0 || e.target.vy != 0.0 ? turn : 0.0;
-    if (!c.ramp) e.keysWz = e.target.wz;  // (ramped: the keys' yaw rate goes on from where it was)
+    if (!d.ramp) e.keysWz = e.target.wz;  // (ramped: the keys' yaw rate goes on from where it was)
     steerCommand(e);
   }
   e.anchor = e.sensors.basePosition.head<2>();
-  const double stretch = c.resampleJitter > 0 ? 1.0 + c.resampleJitter * (2.0 * unit(e.rng) - 1.0) : 1.0;
-  e.nextCommandTick = e.tick + std::max(1, int(std::lround(c.resampleSeconds * stretch / engine::kTickSeconds)));
+  const double stretch = d.resampleJitter > 0 ? 1.0 + d.resampleJitter * (2.0 * unit(e.rng) - 1.0) : 1.0;
+  e.nextCommandTick = e.tick + std::max(1, int(std::lround(d.resampleSeconds * stretch / engine::kTickSeconds)));
 }
 
-// [commands] steer: while the command moves the robot, its yaw rate is the keys' (0 under the interlock) plus the
+// [draws] steer: while the command moves the robot, its yaw rate is the keys' (0 under the interlock) plus the
 // draw's turn, as play's heading hold adds a turn to W (robot::shapeCommand)
 void SkillEnv::steerCommand(Env& e) const {
   e.command.wz = e.keysWz;
@@ -174,7 +175,7 @@ void SkillEnv::steerCommand(Env& e) const {
 }
 
 void SkillEnv::resetEnv(Env& e, bool allowHandover) {
-  const robot::RandomisationDef& r = skill_.randomisation;
+  const RandomisationDef& r = skill_.randomisation;
   double friction = 1.0;
   e.model.articulation.base.mass = model_.articulation.base.mass;
   if (options_.randomise) {
@@ -186,7 +187,7 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   e.world->addGround(friction);
   addTerrain(*e.world, skill_.terrain, stepHeight(), friction);
   // on stairs the robot starts facing them (+X, within +-0.2 rad); elsewhere any heading
-  const bool stairs = skill_.terrain.kind == robot::TerrainDef::Kind::Stairs;
+  const bool stairs = skill_.terrain.kind == TerrainDef::Kind::Stairs;
   const double yaw = stairs ? 0.2 * (2.0 * unit(e.rng) - 1.0) : M_PI * (2.0 * unit(e.rng) - 1.0);
   // the draw is the ground's coefficient; the robot's own stays 1 as in the levels (Bullet multiplies the two,
   // so giving the feet the draw too made the contact coefficient its square: 0.25-1.56 for [0.5, 1.25])
@@ -239,7 +240,7 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   // every episode starts at amplitude 0; a ramped velocity command goes on from the handover's, as the keys' ramp
   // does in play across a switch (W held from the walk into the run: from the walk's command up to the run's)
   e.command = robot::SkillCommand{};
-  if (skill_.commands.ramp) e.command.vx = handedOver.vx, e.command.vy = handedOver.vy, e.command.wz = handedOver.wz;
+  if (skill_.draws.ramp) e.command.vx = handedOver.vx, e.command.vy = handedOver.vy, e.command.wz = handedOver.wz;
   e.keysWz = e.command.wz, e.steer = 0;
   sampleCommand(e);
   if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
@@ -254,16 +255,16 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
 // the policy sees the command its action is then taken under.
 void SkillEnv::advanceCommand(Env& e) const {
   // the amplitude command ramps like the R / F keys when the skill says so
-  if (skill_.commands.amplitudeRate > 0) {
-    const double step = skill_.commands.amplitudeRate * engine::kTickSeconds;
+  if (skill_.draws.amplitudeRate > 0) {
+    const double step = skill_.draws.amplitudeRate * engine::kTickSeconds;
     e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
   }
-  if (skill_.commands.ramp) {
+  if (skill_.draws.ramp) {
     const engine::CommandLimits keys;  // the keyboard's rates
-    if (skill_.commands.steer > 0) e.command.wz = e.keysWz;  // the ramp sees the keys' command, not the steer
+    if (skill_.draws.steer > 0) e.command.wz = e.keysWz;  // the ramp sees the keys' command, not the steer
     engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
                                 &e.command.vy, &e.command.wz);
-    if (skill_.commands.steer > 0) e.keysWz = e.command.wz, steerCommand(e);
+    if (skill_.draws.steer > 0) e.keysWz = e.command.wz, steerCommand(e);
   }
 }
 
@@ -276,10 +277,12 @@ bool SkillEnv::handOver(Env& e, bool back, robot::SkillCommand* commandAtSwitch)
   return true;
 }
 
-HandoverRoute makeHandoverRoute(const std::vector<HandoverStage>& stages, const robot::SkillDef& destination) {
+HandoverRoute makeHandoverRoute(const std::vector<HandoverStage>& stages, const SkillSpec& destination) {
   HandoverRoute r;
   for (const HandoverStage& st : stages) r.set.skills.push_back({*st.skill, st.policy});
   r.set.skills.push_back({destination, {}});
+  r.driver = stages.empty() ? nullptr : stages.front().skill;
+  r.destinationSpec = &destination;
   return r;
 }
 
@@ -288,12 +291,12 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
                  robot::SkillState* state, robot::SkillCommand* commandAtSwitch) {
   const std::vector<robot::Skill>& skills = route.set.skills;
   const robot::Skill& destination = route.destination();
-  const robot::SkillDef& skill = destination.def;
-  const robot::SkillDef& driver = skills.front().def;
+  const SkillSpec& skill = *route.destinationSpec;
+  const SkillSpec& driver = *route.driver;
   // the keys: the drive's command (W held at handover_vx, or one draw), ramping at the keyboard's rates
   robot::SkillCommand keys, target;
   if (skill.handoverVx.lo != 0 || skill.handoverVx.hi != 0) target.vx = uniform(rng, skill.handoverVx);  // W held
-  else drawVelocity(rng, driver.commands, &target);
+  else drawVelocity(rng, driver.commands, driver.draws, &target);
   int run = std::max(1, int(std::lround(uniform(rng, skill.handoverSeconds) / engine::kTickSeconds)));
   const engine::CommandLimits limits;
   robot::SwitchRequest request;
@@ -377,11 +380,11 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       ballIntoCommand(e.sensors, e.ballState, &e.command);
     }
 
-    // [training] line_steer: steered back toward the line as the crawl card (and a player) steers
-    if (skill_.lineSteer > 0) {
+    // [commands] line_steer: steered back toward the line as the crawl card (and a player) steers
+    if (skill_.commands.lineSteer > 0) {
       robot::SkillCommand line;
       robot::lineIntoCommand(e.sensors, e.state.lineStart, e.state.lineAlong, &line);
-      e.command.wz = robot::steerTowardLine(skill_.commands, skill_.lineSteer, line, &e.state.lineSteerError);
+      e.command.wz = robot::steerTowardLine(skill_.commands, skill_.commands.lineSteer, line, &e.state.lineSteerError);
     }
     // [training] heading_steer: squared up to +X as the stairs card (and play's heading hold) steers
     else if (e.headingSteered) e.command.wz = robot::squareToPlusX(e.sensors.yaw, skill_.headingSteer, skill_.commands);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ai/env/vec_env.h"
+#include "ai/tree/training_tree.h"
 #include "ai/rewards/reward_terms.h"
 #include "engine/core/worker_pool.h"
 #include "robot/skill_runtime.h"
@@ -19,7 +20,7 @@ namespace ai {
 /// A skill that drives part of an episode before the skill being trained or measured takes over, with its
 /// deterministic policy (observations x batch -> actions x batch; called from worker threads: thread-safe).
 struct HandoverStage {
-  const robot::SkillDef* skill = nullptr;
+  const SkillSpec* skill = nullptr;
   std::function<void(const Eigen::MatrixXf&, Eigen::MatrixXf*)> policy;
 };
 
@@ -27,9 +28,11 @@ struct HandoverStage {
 /// runs outside: it is being trained or measured), in one robot::SkillSet so that the tree routes between them.
 struct HandoverRoute {
   robot::SkillSet set;
+  const SkillSpec* driver = nullptr;       ///< stage 0's training tables (how its drive is drawn)
+  const SkillSpec* destinationSpec = nullptr;  ///< the destination's (its handover settings)
   const robot::Skill& destination() const { return set.skills.back(); }
 };
-HandoverRoute makeHandoverRoute(const std::vector<HandoverStage>& stages, const robot::SkillDef& destination);
+HandoverRoute makeHandoverRoute(const std::vector<HandoverStage>& stages, const SkillSpec& destination);
 
 /// One handover into the route's destination `skill` as a player makes it in play, through the skill runtime
 /// (robot::route, robot::shapeCommand, robot::controlStep): stage 0 takes the robot from the standing controller (a
@@ -53,7 +56,7 @@ struct SkillEnvOptions {
   bool randomise = true;  ///< friction, added mass and pushes as the skill says (off = nominal robot, no pushes)
   /// handover episodes (the skill's training.handover > 0): the parent's tree entry and its deterministic policy
   /// (observations x batch -> actions x batch; called from the worker threads, so it must be thread-safe)
-  const robot::SkillDef* parent = nullptr;
+  const SkillSpec* parent = nullptr;
   std::function<void(const Eigen::MatrixXf&, Eigen::MatrixXf*)> parentPolicy;
   /// the skills a handover episode routes through after the parent (handover_from an ancestor further up: the
   /// one-leg stand between walk and kick), in route order
@@ -71,7 +74,7 @@ struct EpisodeStats {
 
 class SkillEnv final : public VecEnv {
  public:
-  SkillEnv(const robot::RobotModel& model, const robot::SkillDef& skill, const std::string& treePath,
+  SkillEnv(const robot::RobotModel& model, const SkillSpec& skill, const std::string& treePath,
            const SkillEnvOptions& options);
   ~SkillEnv() override;
 
@@ -86,7 +89,7 @@ class SkillEnv final : public VecEnv {
   /// Seconds spent inside physics (substeps) during step() calls so far, summed over threads.
   double physicsSeconds() const;
 
-  /// Curriculum (terrain lessons, or a command curriculum: robot::CurriculumDef), measured at the end of each
+  /// Curriculum (terrain lessons, or a command curriculum: CurriculumDef), measured at the end of each
   /// rollout: every episode of the rollout (fallen, timed out, or cut by the rollout's end) scores its return
   /// per tick it could have played (up to the time limit or the rollout's end, so a fall counts as zero for the
   /// rest), episodes that could have played less than 1 s (or the time limit, if shorter) are skipped, and the
@@ -104,7 +107,7 @@ class SkillEnv final : public VecEnv {
   /// The step height of the current lesson (0 on flat terrain).
   double stepHeight() const;
   /// The skill as the current lesson trains it (a command curriculum's forward top, T1 and stride applied).
-  const robot::SkillDef& lessonSkill() const { return skill_; }
+  const SkillSpec& lessonSkill() const { return skill_; }
 
  private:
   struct Env;
@@ -119,12 +122,12 @@ class SkillEnv final : public VecEnv {
   void applyLesson();  // a command curriculum's values for lesson_ into skill_
 
   robot::RobotModel model_;
-  robot::SkillDef skill_;      // the tree entry with the current lesson applied (see applyLesson)
-  robot::SkillDef treeSkill_;  // the tree entry as written
-  robot::SkillDef parent_;  // handover episodes only: the skill that drives first
-  std::vector<robot::SkillDef> via_;  // ... the skills routed through after it
-  robot::SkillDef backChild_;  // handover episodes from a child: the child that drives first
-  robot::SkillDef backSkill_;  // ... and this skill as that route switches into it (handover_back_s as its drive)
+  SkillSpec skill_;      // the tree entry with the current lesson applied (see applyLesson)
+  SkillSpec treeSkill_;  // the tree entry as written
+  SkillSpec parent_;  // handover episodes only: the skill that drives first
+  std::vector<SkillSpec> via_;  // ... the skills routed through after it
+  SkillSpec backChild_;  // handover episodes from a child: the child that drives first
+  SkillSpec backSkill_;  // ... and this skill as that route switches into it (handover_back_s as its drive)
   robot::Skill trainee_;       // skill_ as the runtime runs it (its policy runs outside, batched)
   HandoverRoute route_, backRoute_;  // parent_ then via_ into skill_; backChild_ into backSkill_
   void makeRoutes();

@@ -11,7 +11,7 @@
 namespace ai {
 namespace {
 
-levels::StairsDef stairsOf(const robot::TerrainDef& t, double stepHeight) {
+levels::StairsDef stairsOf(const TerrainDef& t, double stepHeight) {
   levels::StairsDef d;
   d.start = Eigen::Vector2d(t.startX, 0.0);
   d.steps = t.steps;
@@ -25,15 +25,15 @@ levels::StairsDef stairsOf(const robot::TerrainDef& t, double stepHeight) {
 
 }  // namespace
 
-void addTerrain(engine::PhysicsWorld& world, const robot::TerrainDef& t, double stepHeight, double friction) {
-  if (t.kind != robot::TerrainDef::Kind::Stairs || stepHeight <= 0) return;
+void addTerrain(engine::PhysicsWorld& world, const TerrainDef& t, double stepHeight, double friction) {
+  if (t.kind != TerrainDef::Kind::Stairs || stepHeight <= 0) return;
   for (const levels::BoxDef& b : levels::expandStairs(stairsOf(t, stepHeight)))
     world.addStaticBox(b.centre, Eigen::Quaterniond::Identity(), 0.5 * b.size, friction);
 }
 
-void addCeiling(engine::PhysicsWorld& world, const robot::TerrainDef& t, const Eigen::Vector2d& centre, double heading,
+void addCeiling(engine::PhysicsWorld& world, const TerrainDef& t, const Eigen::Vector2d& centre, double heading,
                 double behind, double length, double width, double friction) {
-  if (t.kind != robot::TerrainDef::Kind::Ceiling) return;
+  if (t.kind != TerrainDef::Kind::Ceiling) return;
   constexpr double kThickness = 0.2;
   const Eigen::Vector2d along(std::cos(heading), std::sin(heading));
   const Eigen::Vector2d mid = centre + along * (0.5 * length - behind);
@@ -42,8 +42,8 @@ void addCeiling(engine::PhysicsWorld& world, const robot::TerrainDef& t, const E
                      Eigen::Vector3d(0.5 * length, 0.5 * width, 0.5 * kThickness), friction);
 }
 
-Eigen::Vector2d stairsSpawn(const robot::TerrainDef& t, double stepHeight, double u, double v) {
-  if (t.kind != robot::TerrainDef::Kind::Stairs || t.steps < 1) return Eigen::Vector2d::Zero();
+Eigen::Vector2d stairsSpawn(const TerrainDef& t, double stepHeight, double u, double v) {
+  if (t.kind != TerrainDef::Kind::Stairs || t.steps < 1) return Eigen::Vector2d::Zero();
   const std::vector<levels::BoxDef> treads = levels::expandStairs(stairsOf(t, std::max(stepHeight, 1e-3)));
   const int n = int(treads.size());
   const levels::BoxDef& b = treads[std::clamp(int(u * n), 0, n - 1)];
@@ -55,11 +55,11 @@ Eigen::Vector2d stairsSpawn(const robot::TerrainDef& t, double stepHeight, doubl
   return Eigen::Vector2d(x, stepHeight > 0 ? b.size.z() : 0.0);
 }
 
-double terrainEndX(const robot::TerrainDef& t) {
-  return t.kind == robot::TerrainDef::Kind::Stairs ? levels::stairsEndX(stairsOf(t, 0.1)) : 0.0;
+double terrainEndX(const TerrainDef& t) {
+  return t.kind == TerrainDef::Kind::Stairs ? levels::stairsEndX(stairsOf(t, 0.1)) : 0.0;
 }
 
-Eigen::Vector2d stairsLandingX(const robot::TerrainDef& t) {
+Eigen::Vector2d stairsLandingX(const TerrainDef& t) {
   const levels::StairsDef d = stairsOf(t, 0.1);
   const double top = d.start.x() + (d.steps - 1) * d.run;
   return {top, top + d.top};

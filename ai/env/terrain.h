@@ -2,17 +2,17 @@
 #pragma once
 
 #include "engine/physics/physics_world.h"
-#include "robot/skill_tree.h"
+#include "ai/tree/training_tree.h"
 
 namespace ai {
 
 /// Adds the terrain (flat: nothing) with this step height; the ground plane is the caller's.
-void addTerrain(engine::PhysicsWorld& world, const robot::TerrainDef& terrain, double stepHeight, double friction);
+void addTerrain(engine::PhysicsWorld& world, const TerrainDef& terrain, double stepHeight, double friction);
 
 /// Ceiling terrain: puts the ceiling over a robot that has lain down at `centre` (world x, y) facing `heading`
 /// [rad]: a slab `length` long along the heading from `behind` metres behind the centre, `width` across (the
 /// terrain's), its underside the terrain's height above the ground. Training uses a slab over the whole arena.
-void addCeiling(engine::PhysicsWorld& world, const robot::TerrainDef& terrain, const Eigen::Vector2d& centre, double heading,
+void addCeiling(engine::PhysicsWorld& world, const TerrainDef& terrain, const Eigen::Vector2d& centre, double heading,
                 double behind, double length, double width, double friction);
 
 /// Where a training episode that starts along the staircase puts the pelvis (TerrainDef::spawnAlong): on one of
@@ -21,12 +21,12 @@ void addCeiling(engine::PhysicsWorld& world, const robot::TerrainDef& terrain, c
 /// G1's soles reach about 0.05 m behind and 0.13 m ahead of it in the default pose, so both stay on the tread);
 /// on a deeper one (the landing) anywhere from 0.10 m in to 0.25 m before its far end. Returns (x, the tread's
 /// height); flat terrain: (0, 0).
-Eigen::Vector2d stairsSpawn(const robot::TerrainDef& terrain, double stepHeight, double u, double v);
+Eigen::Vector2d stairsSpawn(const TerrainDef& terrain, double stepHeight, double u, double v);
 
 /// X of the far end of the stairs (where the last step down ends); 0 for flat terrain.
-double terrainEndX(const robot::TerrainDef& terrain);
+double terrainEndX(const TerrainDef& terrain);
 
 /// Stairs: X where the landing begins (the top of the way up) and where it ends (the top of the way down).
-Eigen::Vector2d stairsLandingX(const robot::TerrainDef& terrain);
+Eigen::Vector2d stairsLandingX(const TerrainDef& terrain);
 
 }  // namespace ai

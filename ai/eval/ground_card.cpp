@@ -70,17 +70,20 @@ struct Episode {
 }  // namespace
 
 namespace {
-CardResult pushUpResult(const robot::SkillDef& skill, const robot::CardDef& o, const DrivingSkill& parent,
+CardResult pushUpResult(const SkillSpec& skill, const CardDef& o, const DrivingSkill& parent,
                         const std::vector<Episode>& eps);
-CardResult crawlResult(const robot::SkillDef& skill, const robot::CardDef& o, const DrivingSkill& parent,
+CardResult crawlResult(const SkillSpec& skill, const CardDef& o, const DrivingSkill& parent,
                        const std::vector<Episode>& eps);
 }  // namespace
 
-CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
+CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill, const PolicyFn& policy,
                          const CardRun& run, const DrivingSkill& parent, const DrivingSkill& up) {
-  const robot::CardDef& o = run.card;
-  const bool standUp = o.kind == robot::CardDef::Kind::StandUp, crawl = o.kind == robot::CardDef::Kind::Crawl;
-  if (!standUp && !crawl && o.kind != robot::CardDef::Kind::PushUp)
+  const CardDef& o = run.card;
+  const StandUpCard* standUpCard = o.as<StandUpCard>();
+  const PushUpCard* pushUpCard = o.as<PushUpCard>();
+  const CrawlCard* crawlCard = o.as<CrawlCard>();
+  const bool standUp = standUpCard != nullptr, crawl = crawlCard != nullptr;
+  if (!o.lying())
     throw engine::Error("ground card of '" + skill.name + "': the card is not a standup, pushup or crawl card");
   if (!parent.def || !parent.policy || (standUp && (!up.def || !up.policy)))
     throw engine::Error("ground card of '" + skill.name + "': needs the models of its parent" +
@@ -89,25 +92,25 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
   std::mt19937_64 seeder(run.seed);
   const int n = o.episodes;
   std::vector<Episode> eps(static_cast<size_t>(n));
-  const robot::RandomisationDef& r = skill.randomisation;
+  const RandomisationDef& r = skill.randomisation;
   for (Episode& e : eps) e.rng.seed(seeder());
   pool.parallelFor(n, [&](int i) {
     Episode& e = eps[size_t(i)];
     e.model = model;
     const double friction = e.friction = r.friction.lo + (r.friction.hi - r.friction.lo) * unit(e.rng);
     e.model.articulation.base.mass += r.addedMass.lo + (r.addedMass.hi - r.addedMass.lo) * unit(e.rng);
-    e.lieTicks = int(std::lround((o.lieSeconds.lo + (o.lieSeconds.hi - o.lieSeconds.lo) * unit(e.rng)) / engine::kTickSeconds));
+    e.lieTicks = int(std::lround((o.lying()->lieSeconds.lo + (o.lying()->lieSeconds.hi - o.lying()->lieSeconds.lo) * unit(e.rng)) / engine::kTickSeconds));
     e.world = std::make_unique<engine::PhysicsWorld>();
     e.world->addGround(friction);
     e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, M_PI * (2 * unit(e.rng) - 1));
     e.sensors = e.robot->sense(*e.world);
-    if (crawl) e.command.vx = o.vx.lo + (o.vx.hi - o.vx.lo) * unit(e.rng);
+    if (crawl) e.command.vx = crawlCard->vx.lo + (crawlCard->vx.hi - crawlCard->vx.lo) * unit(e.rng);
   });
-  const int riseTicks = int(std::lround(o.riseSeconds / engine::kTickSeconds));
+  const int riseTicks = standUp ? int(std::lround(standUpCard->riseSeconds / engine::kTickSeconds)) : 0;
   // a late stand is still timed; other skills run the card's episode_s
   const int riseCap = standUp ? riseTicks + int(std::lround(3.0 / engine::kTickSeconds))
-                              : int(std::lround(o.episodeSeconds / engine::kTickSeconds));
-  const int afterTicks = int(std::lround(o.afterSeconds / engine::kTickSeconds));
+                              : int(std::lround((crawl ? crawlCard->episodeSeconds : pushUpCard->episodeSeconds) / engine::kTickSeconds));
+  const int afterTicks = standUp ? int(std::lround(standUpCard->afterSeconds / engine::kTickSeconds)) : 0;
   const robot::SkillCommand still;  // the parent and the up skill run at a zero command
   // the runtime's skills: the parent, the measured skill, its up skill (stand-ups)
   robot::SkillSet set;
@@ -152,19 +155,19 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
         robot::lineIntoCommand(e.sensors, e.start, e.along, &line);
         e.offset = line.aux1, e.headingOff = line.aux0;
         e.side = std::max(e.side, std::abs(e.offset));
-        if (o.steer > 0) {  // as a player steers: back toward the axis, not at every swing of the rock
-          e.command.wz = robot::steerTowardLine(skill.commands, o.steer, line, &e.state.lineSteerError);
+        if (crawlCard->steer > 0) {  // as a player steers: back toward the axis, not at every swing of the rock
+          e.command.wz = robot::steerTowardLine(skill.commands, crawlCard->steer, line, &e.state.lineSteerError);
         }
         if (progress >= e.best + 0.1) {
           e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
           e.best = progress, e.gainTick = e.stageTick;
         }
-        if (e.reachTick < 0 && progress >= o.crawlDistance) e.reachTick = e.stageTick;
+        if (e.reachTick < 0 && progress >= crawlCard->distance) e.reachTick = e.stageTick;
         e.outside = e.outside || e.side > 0.5 * skill.terrain.width;
       } else if (e.stage == kRising && !standUp) {
         const Eigen::Isometry3d torso = e.robot->linkPose(*e.world, model.torso);
-        e.torso.add(torso.translation().z(), o.pushUpRise);
-        e.chest.add((torso * robot::kChestInTorso).z(), o.pushUpRise);
+        e.torso.add(torso.translation().z(), pushUpCard->rise);
+        e.chest.add((torso * robot::kChestInTorso).z(), pushUpCard->rise);
       }
       const robot::FallCause cause = robot::fallCause(e.state.active->def.termination, e.sensors);
       if (cause != robot::FallCause::None) {
@@ -191,7 +194,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
           if (standUp) e.wanted = &set.skills[2];
           if (crawl) {  // the tunnel over the robot, along the way it faces, from just behind its feet
             addCeiling(*e.world, skill.terrain, e.start, std::atan2(e.along.y(), e.along.x()), 1.0,
-                       o.crawlDistance + 2.5, skill.terrain.width, e.friction);
+                       crawlCard->distance + 2.5, skill.terrain.width, e.friction);
           }
         } else if (routed.switchedTo) {  // the up skill
           if (e.standTick < 0) e.standTick = e.stageTick;
@@ -239,7 +242,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
   const double pct = 100.0 / std::max(1, n);
   char name[192];
   std::snprintf(name, sizeof name, "episodes standing (pelvis >= %.2f m, tilt < %.0f deg) within %.1f s, then %s %.0f s up",
-                robot::kStoodPelvisHeight, robot::kStoodTiltDegrees, o.riseSeconds, up.def->name.c_str(), o.afterSeconds);
+                robot::kStoodPelvisHeight, robot::kStoodTiltDegrees, standUpCard->riseSeconds, up.def->name.c_str(), standUpCard->afterSeconds);
   char bar[48];
   std::snprintf(bar, sizeof bar, ">= %g %%", o.successPercent);
   res.figures.push_back({name, pct * success, o.successPercent < 0 ? "(reported)" : bar,
@@ -256,14 +259,15 @@ CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& 
   res.pass = true;
   for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;
   res.score = 2.0 * success / std::max(1, n) + double(stood) / std::max(1, n) -
-              (stood ? std::min(1.0, seconds / stood / std::max(0.1, o.riseSeconds)) : 1.0);
+              (stood ? std::min(1.0, seconds / stood / std::max(0.1, standUpCard->riseSeconds)) : 1.0);
   return res;
 }
 
 namespace {
 
-CardResult pushUpResult(const robot::SkillDef& skill, const robot::CardDef& o, const DrivingSkill& parent,
+CardResult pushUpResult(const SkillSpec& skill, const CardDef& o, const DrivingSkill& parent,
                         const std::vector<Episode>& eps) {
+  const PushUpCard& k = *o.as<PushUpCard>();
   const int n = int(eps.size());
   int success = 0, lying = 0, fellLying = 0, fellSkill = 0, cycles = 0, fewest = 1 << 30, done = 0, chestDone = 0;
   double rise = 0, chestRise = 0;
@@ -275,13 +279,13 @@ CardResult pushUpResult(const robot::SkillDef& skill, const robot::CardDef& o, c
     fewest = std::min(fewest, e.torso.count);
     rise += e.torso.sum, done += e.torso.done;
     chestRise += e.chest.sum, chestDone += e.chest.done;
-    success += e.fellIn == kDone && e.torso.count >= o.pushUps;
+    success += e.fellIn == kDone && e.torso.count >= k.pushUps;
   }
   CardResult res;
   const double pct = 100.0 / std::max(1, n);
   char name[192], bar[48];
-  std::snprintf(name, sizeof name, "episodes with >= %d push-ups (torso rising >= %.2f m) in %.0f s, no fall", o.pushUps,
-                o.pushUpRise, o.episodeSeconds);
+  std::snprintf(name, sizeof name, "episodes with >= %d push-ups (torso rising >= %.2f m) in %.0f s, no fall", k.pushUps,
+                k.rise, k.episodeSeconds);
   std::snprintf(bar, sizeof bar, ">= %g %%", o.successPercent);
   res.figures.push_back({name, pct * success, o.successPercent < 0 ? "(reported)" : bar,
                          o.successPercent < 0 || pct * success >= o.successPercent});
@@ -295,15 +299,16 @@ CardResult pushUpResult(const robot::SkillDef& skill, const robot::CardDef& o, c
   res.figures.push_back({name, double(fellLying + fellSkill), "(reported)", true});
   res.pass = true;
   for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;
-  res.score = 2.0 * success / std::max(1, n) + std::min(1.0, double(cycles) / std::max(1, n * o.pushUps)) -
+  res.score = 2.0 * success / std::max(1, n) + std::min(1.0, double(cycles) / std::max(1, n * k.pushUps)) -
               double(fellSkill) / std::max(1, n);
   return res;
 }
 
-CardResult crawlResult(const robot::SkillDef& skill, const robot::CardDef& o, const DrivingSkill& parent,
+CardResult crawlResult(const SkillSpec& skill, const CardDef& o, const DrivingSkill& parent,
                        const std::vector<Episode>& eps) {
+  const CrawlCard& k = *o.as<CrawlCard>();
   const int n = int(eps.size());
-  const double limit = o.crawlDistance / o.crawlSpeed;  // the slowest that passes [s]
+  const double limit = k.distance / k.speed;  // the slowest that passes [s]
   int success = 0, reached = 0, lying = 0, fellLying = 0, fellSkill = 0, outside = 0, outLeft = 0, crawled = 0;
   double seconds = 0, slowest = 0, stall = 0, progress = 0, side = 0, heading = 0, headingAbs = 0;
   for (const Episode& e : eps) {
@@ -313,7 +318,7 @@ CardResult crawlResult(const robot::SkillDef& skill, const robot::CardDef& o, co
     fellLying += e.fellIn == kLying;
     fellSkill += e.fellIn == kRising;
     outside += e.outside;
-    progress += std::min(e.best, o.crawlDistance);
+    progress += std::min(e.best, k.distance);
     side = std::max(side, e.side);
     stall = std::max(stall, e.longestStall * engine::kTickSeconds);
     if (e.reachTick >= 0) {
@@ -326,14 +331,14 @@ CardResult crawlResult(const robot::SkillDef& skill, const robot::CardDef& o, co
   CardResult res;
   const double pct = 100.0 / std::max(1, n);
   char name[192], bar[48];
-  std::snprintf(name, sizeof name, "episodes crawling %.1f m under a %.2f m ceiling at >= %.2f m/s, no fall", o.crawlDistance,
-                skill.terrain.ceilingHeight, o.crawlSpeed);
+  std::snprintf(name, sizeof name, "episodes crawling %.1f m under a %.2f m ceiling at >= %.2f m/s, no fall", k.distance,
+                skill.terrain.ceilingHeight, k.speed);
   std::snprintf(bar, sizeof bar, ">= %g %%", o.successPercent);
   res.figures.push_back({name, pct * success, o.successPercent < 0 ? "(reported)" : bar,
                          o.successPercent < 0 || pct * success >= o.successPercent});
-  std::snprintf(name, sizeof name, "mean speed over the %.1f m (episodes that got there) [m/s]", o.crawlDistance);
-  res.figures.push_back({name, reached ? o.crawlDistance * reached / seconds : 0.0, "(reported)", true});
-  std::snprintf(name, sizeof name, "slowest to %.1f m [s]", o.crawlDistance);
+  std::snprintf(name, sizeof name, "mean speed over the %.1f m (episodes that got there) [m/s]", k.distance);
+  res.figures.push_back({name, reached ? k.distance * reached / seconds : 0.0, "(reported)", true});
+  std::snprintf(name, sizeof name, "slowest to %.1f m [s]", k.distance);
   res.figures.push_back({name, reached ? slowest : 1e9, "(reported)", true});
   res.figures.push_back({"mean progress along the tunnel [m]", progress / std::max(1, n), "(reported)", true});
   res.figures.push_back({"longest stall (no 0.1 m of progress) [s]", stall, "(reported)", true});
@@ -348,7 +353,7 @@ CardResult crawlResult(const robot::SkillDef& skill, const robot::CardDef& o, co
   res.figures.push_back({name, double(fellLying + fellSkill), "(reported)", true});
   res.pass = true;
   for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;
-  res.score = 2.0 * success / std::max(1, n) + progress / std::max(1, n) / o.crawlDistance - double(fellSkill) / std::max(1, n);
+  res.score = 2.0 * success / std::max(1, n) + progress / std::max(1, n) / k.distance - double(fellSkill) / std::max(1, n);
   return res;
 }
 

@@ -1,4 +1,4 @@
-// ground_card.h — the report cards of skills entered lying down (CardDef::Kind::StandUp, PushUp, Crawl): each
+// ground_card.h — the report cards of skills entered lying down (CardKind::StandUp, PushUp, Crawl): each
 // episode lies down under the parent skill's model (prone), switches to the skill the way the runtime does, and
 // measures it; a stand-up then hands the robot to its `up` skill (the walk), which must keep it up. The policies
 // drive in turn; all measured in physics.
@@ -10,7 +10,7 @@ namespace ai {
 
 /// A skill that drives part of an episode other than the one being measured, with its deterministic policy.
 struct DrivingSkill {
-  const robot::SkillDef* def = nullptr;
+  const SkillSpec* def = nullptr;
   PolicyFn policy;
 };
 
@@ -25,7 +25,7 @@ struct DrivingSkill {
 /// success = the pelvis crawl_distance along the tunnel within crawl_distance / crawl_speed of the switch, never
 /// beyond the tunnel's width, no fall.
 /// `up` is needed only by a StandUp card. Results do not depend on the thread count.
-CardResult runGroundCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
+CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill, const PolicyFn& policy,
                          const CardRun& run, const DrivingSkill& parent, const DrivingSkill& up);
 
 }  // namespace ai

@@ -13,7 +13,7 @@ namespace {
 
 // the model of skill `name` in modelsDir, checked against its tree entry, as the driver of one of a card's stages
 DrivingSkill drivingSkill(const SkillContext& l, const std::string& name, const std::string& modelsDir, const std::string& why) {
-  const robot::SkillDef* def = l.tree.find(name);
+  const SkillSpec* def = l.tree.find(name);
   const std::string path = modelsDir + "/" + def->model;
   if (!std::filesystem::exists(path))
     throw engine::Error(path + ": the card of '" + l.skill->name + "' needs the model of '" + name + "' (" + why + "): train " + name + " first");
@@ -27,7 +27,7 @@ DrivingSkill drivingSkill(const SkillContext& l, const std::string& name, const 
 SkillContext loadSkillContext(const std::string& name) {
   SkillContext l;
   l.model = robot::loadRobotModel(robot::defaultRobotConfigPath());
-  l.tree = robot::loadSkillTree(robot::defaultSkillTreePath(), l.model);
+  l.tree = loadTrainingTree(robot::defaultSkillTreePath(), l.model);
   l.skill = l.tree.find(name);
   if (!l.skill) {
     std::string names;
@@ -37,34 +37,33 @@ SkillContext loadSkillContext(const std::string& name) {
   return l;
 }
 
-std::vector<const robot::SkillDef*> handoverRoute(const robot::SkillTree& tree, const robot::SkillDef& skill) {
+std::vector<const SkillSpec*> handoverRoute(const TrainingTree& tree, const SkillSpec& skill) {
   const std::string from = skill.handoverFrom.empty() ? skill.parent : skill.handoverFrom;
-  std::vector<const robot::SkillDef*> route;
-  for (const robot::SkillDef* at = tree.find(skill.parent);; at = tree.find(at->parent)) {
+  std::vector<const SkillSpec*> route;
+  for (const SkillSpec* at = tree.find(skill.parent);; at = tree.find(at->parent)) {
     route.insert(route.begin(), at);
     if (at->name == from) return route;
   }
 }
 
 CardDrivers loadCardDrivers(const SkillContext& l, const std::string& modelsDir) {
-  if (l.skill->card.leadIn) {
+  if (const DrivenCard* driven = l.skill->card.driven(); driven && driven->leadIn) {
     CardDrivers d;
-    for (const robot::SkillDef* at : handoverRoute(l.tree, *l.skill)) {
+    for (const SkillSpec* at : handoverRoute(l.tree, *l.skill)) {
       const DrivingSkill ds = drivingSkill(l, at->name, modelsDir, "its card starts as play enters the skill");
       d.leadIn.push_back({ds.def, ds.policy});
     }
     return d;
   }
-  if (l.skill->card.kind == robot::CardDef::Kind::PushUp || l.skill->card.kind == robot::CardDef::Kind::Crawl)
+  if (l.skill->card.kind() == CardKind::PushUp || l.skill->card.kind() == CardKind::Crawl)
     return {drivingSkill(l, l.skill->parent, modelsDir, "it lies down first"), {}, {}};
-  if (l.skill->card.kind != robot::CardDef::Kind::StandUp) return {};
+  if (l.skill->card.kind() != CardKind::StandUp) return {};
   return {drivingSkill(l, l.skill->parent, modelsDir, "it lies down first"),
           drivingSkill(l, l.skill->up, modelsDir, "it takes over once standing"), {}};
 }
 
 CardResult runSkillCard(const SkillContext& l, const PolicyFn& act, const CardRun& run, const CardDrivers& drivers) {
-  if (run.card.kind == robot::CardDef::Kind::StandUp || run.card.kind == robot::CardDef::Kind::PushUp ||
-      run.card.kind == robot::CardDef::Kind::Crawl)
+  if (run.card.lying())
     return runGroundCard(l.model, *l.skill, act, run, drivers.before, drivers.after);
   return runVelocityCard(l.model, *l.skill, act, run, drivers.leadIn);
 }
@@ -92,32 +91,34 @@ std::unique_ptr<LoadedPolicy> loadSkillModel(const SkillContext& l, const std::s
 }
 
 std::string cardHead(const SkillContext& l, const CardRun& run, const std::string& modelShown, const std::string& hash) {
-  const robot::CardDef& def = l.skill->card;
+  const CardDef& def = l.skill->card;
   const std::string& name = l.skill->name;
   const char* onnxPath = modelShown.c_str();
   char head[1024];  // room for a long model path
-  if (def.kind == robot::CardDef::Kind::StandUp)
+  const robot::Range* lie = def.lying() ? &def.lying()->lieSeconds : nullptr;
+  if (def.kind() == CardKind::StandUp)
     std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s (model %s, hash %s), "
                   "then %s takes over once it stands\n", name.c_str(), run.card.episodes, l.skill->parent.c_str(),
-                  def.lieSeconds.lo, def.lieSeconds.hi, name.c_str(), onnxPath, hash.c_str(), l.skill->up.c_str());
-  else if (def.kind == robot::CardDef::Kind::PushUp)
+                  lie->lo, lie->hi, name.c_str(), onnxPath, hash.c_str(), l.skill->up.c_str());
+  else if (const PushUpCard* pushUp = def.as<PushUpCard>())
     std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s for %g s (model %s, hash %s)\n",
-                  name.c_str(), run.card.episodes, l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi,
-                  name.c_str(), def.episodeSeconds, onnxPath, hash.c_str());
-  else if (def.kind == robot::CardDef::Kind::Crawl) {
+                  name.c_str(), run.card.episodes, l.skill->parent.c_str(), lie->lo, lie->hi,
+                  name.c_str(), pushUp->episodeSeconds, onnxPath, hash.c_str());
+  else if (const CrawlCard* crawl = def.as<CrawlCard>()) {
     char steer[160] = "";
-    if (def.steer > 0)
+    if (crawl->steer > 0)
       std::snprintf(steer, sizeof steer, ", steered toward its axis as a player would (wz = -%g x the error, within %g rad/s)",
-                    def.steer, l.skill->commands.wz.hi);
+                    crawl->steer, l.skill->commands.wz.hi);
     std::snprintf(head, sizeof head, "%s report card: %d episodes: %s lies down for %g-%g s, then %s at %g-%g m/s through a "
                   "tunnel %g m wide, its ceiling %g m up%s (model %s, hash %s)\n", name.c_str(), run.card.episodes,
-                  l.skill->parent.c_str(), def.lieSeconds.lo, def.lieSeconds.hi, name.c_str(), def.vx.lo, def.vx.hi,
+                  l.skill->parent.c_str(), lie->lo, lie->hi, name.c_str(), crawl->vx.lo, crawl->vx.hi,
                   l.skill->terrain.width, l.skill->terrain.ceilingHeight, steer, onnxPath, hash.c_str());
   } else {
+    const DrivenCard& driven = *def.driven();
     std::string leadIn;  // "walk 1-3 s, to rest, one_leg 0-2 s, then " for a lead_in card
-    if (def.leadIn) {
+    if (driven.leadIn) {
       char b[160];
-      const std::vector<const robot::SkillDef*> route = handoverRoute(l.tree, *l.skill);
+      const std::vector<const SkillSpec*> route = handoverRoute(l.tree, *l.skill);
       for (size_t k = 0; k < route.size(); ++k) {
         const robot::Range& t = k == 0 ? l.skill->handoverSeconds : l.skill->handoverViaSeconds;
         std::snprintf(b, sizeof b, "%s%s %g-%g s", k == 0 ? "each entered as in play: " : ", ", route[k]->name.c_str(), t.lo, t.hi);
@@ -125,16 +126,16 @@ std::string cardHead(const SkillContext& l, const CardRun& run, const std::strin
       }
       leadIn = " (" + leadIn + ", then " + name + ")";
     }
-    if (def.kind == robot::CardDef::Kind::Stairs && def.steer > 0) {  // the player's steering, as the crawl card says it
+    if (const StairsCard* stairs = def.as<StairsCard>(); stairs && stairs->steer > 0) {  // the player's steering
       char b[160];
       std::snprintf(b, sizeof b, ", steered square to the stairs as play's heading hold does (wz = -%g x the heading off them, within %g rad/s)",
-                    def.steer, robot::headingHoldLimit(l.skill->commands));
+                    stairs->steer, robot::headingHoldLimit(l.skill->commands));
       leadIn += b;
     }
     std::snprintf(head, sizeof head, "%s report card: %d episodes x %g s%s with pushes %s, commands every %g s%s (model %s, hash %s)\n",
-                  name.c_str(), run.card.episodes, def.episodeSeconds, leadIn.c_str(), def.pushes ? "on" : "off",
-                  def.segmentSeconds, def.standEpisodes ? ("; " + std::to_string(def.standEpisodes) + " standing episodes x " +
-                                       std::to_string(int(def.standSeconds)) + " s").c_str() : "",
+                  name.c_str(), run.card.episodes, driven.episodeSeconds, leadIn.c_str(), driven.pushes ? "on" : "off",
+                  driven.segmentSeconds, driven.standEpisodes ? ("; " + std::to_string(driven.standEpisodes) + " standing episodes x " +
+                                       std::to_string(int(driven.standSeconds)) + " s").c_str() : "",
                   onnxPath, hash.c_str());
   }
   return head;

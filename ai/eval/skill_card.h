@@ -11,15 +11,15 @@
 #include "ai/eval/velocity_card.h"
 #include "ai/onnx/policy_onnx.h"
 #include "robot/robot_model.h"
-#include "robot/skill_tree.h"
+#include "ai/tree/training_tree.h"
 
 namespace ai {
 
 /// A skill of the tree file, with the robot model and the tree it comes from.
 struct SkillContext {
   robot::RobotModel model;
-  robot::SkillTree tree;
-  const robot::SkillDef* skill = nullptr;
+  TrainingTree tree;
+  const SkillSpec* skill = nullptr;
 };
 
 /// The skill `name` of the tree file the apps use (robot::defaultSkillTreePath) on the default robot; an unknown
@@ -28,7 +28,7 @@ SkillContext loadSkillContext(const std::string& name);
 
 /// The way a handover into `skill` goes in play: handover_from (or the parent) first, then each skill down to the
 /// parent (walk, one_leg for the kick).
-std::vector<const robot::SkillDef*> handoverRoute(const robot::SkillTree& tree, const robot::SkillDef& skill);
+std::vector<const SkillSpec*> handoverRoute(const TrainingTree& tree, const SkillSpec& skill);
 
 /// The skills that drive a card's other stages: a ground card's parent (it lies down first) and a standup card's up
 /// skill (it takes over once the robot stands); a lead_in card's route; none for the other kinds.

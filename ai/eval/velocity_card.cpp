@@ -7,6 +7,7 @@
 #include <memory>
 #include <random>
 
+#include "engine/core/error.h"
 #include "engine/core/worker_pool.h"
 #include "ai/env/ball_task.h"
 #include "ai/env/terrain.h"
@@ -73,7 +74,7 @@ enum class Mode { kWalking, kStanding, kSweep };
 
 double uniform(std::mt19937_64& rng, const robot::Range& r) { return r.lo + (r.hi - r.lo) * unit(rng); }
 
-void sampleCommand(const robot::CardDef& card, Episode& e) {
+void sampleCommand(const DrivenCard& card, Episode& e) {
   const robot::SkillCommand now = e.command;  // ramped commands continue from where they are
   e.command = robot::SkillCommand{};
   const double kind = unit(e.rng);
@@ -92,17 +93,22 @@ void sampleCommand(const robot::CardDef& card, Episode& e) {
 int commandKind(const robot::SkillCommand& c) { return c.vx != 0 ? 0 : c.vy != 0 ? 1 : c.wz != 0 ? 2 : 3; }
 
 // runs a batch of episodes of `ticks` ticks; standing episodes keep a zero command and no pushes
-void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
-              const robot::CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, engine::WorkerPool& pool,
+void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const PolicyFn& policy,
+              const CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, engine::WorkerPool& pool,
               const std::vector<HandoverStage>& leadIn) {
+  const DrivenCard& d = *o.driven();
+  const KickCard* kickCard = o.as<KickCard>();  // the kinds whose figures runBatch measures as it goes
+  const JumpCard* jumpCard = o.as<JumpCard>();
+  const ProneCard* proneCard = o.as<ProneCard>();
+  const BalanceCard* balanceCard = o.as<BalanceCard>();
   const robot::Skill measured{walk, policy};
   const HandoverRoute route = makeHandoverRoute(leadIn, walk);
   const bool walking = mode == Mode::kWalking;
   const double downX = stairsLandingX(walk.terrain).y();  // stairs: where the way down begins
   const int n = int(eps.size());
-  const int segment = int(std::lround(o.segmentSeconds / engine::kTickSeconds));
-  const int settle = int(std::lround(o.settleSeconds / engine::kTickSeconds));
-  const double pushSeconds = o.pushEverySeconds > 0 ? o.pushEverySeconds : walk.randomisation.pushEverySeconds;
+  const int segment = int(std::lround(d.segmentSeconds / engine::kTickSeconds));
+  const int settle = int(std::lround(d.settleSeconds / engine::kTickSeconds));
+  const double pushSeconds = d.pushEverySeconds > 0 ? d.pushEverySeconds : walk.randomisation.pushEverySeconds;
   const int pushEvery = int(std::lround(pushSeconds / engine::kTickSeconds));
   Eigen::MatrixXf obs(robot::kObservationSize, n), act;
 
@@ -115,11 +121,11 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
     if (walking)
       e.model.articulation.base.mass +=
           walk.randomisation.addedMass.lo + (walk.randomisation.addedMass.hi - walk.randomisation.addedMass.lo) * unit(e.rng);
-    const bool stairs = o.kind == robot::CardDef::Kind::Stairs;
+    const bool stairs = o.kind() == CardKind::Stairs;
     auto place = [&] {
       e.world = std::make_unique<engine::PhysicsWorld>();
       e.world->addGround(friction);
-      if (stairs) addTerrain(*e.world, walk.terrain, o.stepHeight, friction);
+      if (stairs) addTerrain(*e.world, walk.terrain, o.as<StairsCard>()->stepHeight, friction);
       const double yaw = stairs ? 0.2 * (2 * unit(e.rng) - 1) : M_PI * (2 * unit(e.rng) - 1);
       e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, yaw);  // feet 1: the contact gets the draw
       e.sensors = e.robot->sense(*e.world);
@@ -139,14 +145,14 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       }
       e.state.active = &measured;  // the route's last skill, with the measured policy
     }
-    if (o.ramp) e.command.vx = handedOver.vx, e.command.vy = handedOver.vy, e.command.wz = handedOver.wz;
+    if (d.ramp) e.command.vx = handedOver.vx, e.command.vy = handedOver.vy, e.command.wz = handedOver.wz;
     e.start = e.sensors.basePosition.head<2>();
     e.startHeight = e.sensors.basePosition.z();
-    e.pushes = walking && o.pushes && pushEvery > 0;
+    e.pushes = walking && d.pushes && pushEvery > 0;
     e.nextPush = pushEvery;
-    e.amplitudeRate = walk.commands.amplitudeRate;
-    if (walking) sampleCommand(o, e);
-    if (o.kind == robot::CardDef::Kind::Kick && walk.ball.enabled) {
+    e.amplitudeRate = walk.draws.amplitudeRate;
+    if (walking) sampleCommand(d, e);
+    if (o.kind() == CardKind::Kick && walk.ball.enabled) {
       e.ball = placeBall(*e.world, walk.ball, e.sensors, e.rng, &e.kickDirection);
       e.ballState = e.world->ballState(e.ball);
       ballIntoCommand(e.sensors, e.ballState, &e.command);
@@ -161,7 +167,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
           const double step = e.amplitudeRate * engine::kTickSeconds;
           e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
         }
-        if (walking && o.ramp) {
+        if (walking && d.ramp) {
           const engine::CommandLimits keys;  // the keyboard's rates
           engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
                                       &e.command.vy, &e.command.wz);
@@ -178,10 +184,10 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
       e.robot->setCommand(pd);
       robot::stepPhysicsTick(*e.robot, *e.world);
       e.sensors = e.robot->sense(*e.world);
-      if (o.kind == robot::CardDef::Kind::Stairs && o.steer > 0) {
+      if (const StairsCard* stairsCard = o.as<StairsCard>(); stairsCard && stairsCard->steer > 0) {
         // a player keeping the robot square to the staircase (it runs along +X), with play's heading-hold law
         // (robot::shapeCommand's heading hold): steer x the heading error, at most kHeadingMaxRate and the skill's wz range
-        e.command.wz = robot::squareToPlusX(e.sensors.yaw, o.steer, walk.commands);
+        e.command.wz = robot::squareToPlusX(e.sensors.yaw, stairsCard->steer, walk.commands);
       }
       const int tick = t + 1;
       ++e.alive;
@@ -219,13 +225,13 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         const Eigen::Vector2d v = e.ballState.velocity.head<2>();
         const double along = v.dot(e.kickDirection);
         const double angle = std::atan2(std::abs(v.x() * e.kickDirection.y() - v.y() * e.kickDirection.x()), along);
-        if (along > 0 && angle <= o.kickAngleDegrees * M_PI / 180.0) e.bestKick = std::max(e.bestKick, v.norm());
+        if (kickCard && along > 0 && angle <= kickCard->angleDegrees * M_PI / 180.0) e.bestKick = std::max(e.bestKick, v.norm());
       }
       if (!e.sensors.footContact[0] && !e.sensors.footContact[1]) {
         ++e.flightTicks;
         e.apex = std::max(e.apex, e.sensors.basePosition.z());
       } else if (e.flightTicks > 0) {  // landed: was it a jump?
-        const bool counts = e.flightTicks >= 3 && e.apex - e.startHeight >= o.jumpHeight;
+        const bool counts = jumpCard && e.flightTicks >= 3 && e.apex - e.startHeight >= jumpCard->height;
         e.jumps += counts;
         e.inARow = counts ? e.inARow + 1 : 0;
         e.bestInARow = std::max(e.bestInARow, e.inARow);
@@ -233,25 +239,26 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         e.flightTicks = 0;
         e.apex = 0;
       }
-      if (o.kind == robot::CardDef::Kind::Prone) {
+      if (proneCard) {
         const Eigen::Vector3d v = e.sensors.baseRotation * e.sensors.linearVelocity;
         if (tick > 1) e.peakAcceleration = std::max(e.peakAcceleration, (v - e.lastVelocity).norm() / engine::kTickSeconds);
         e.lastVelocity = v;
         const double pitch = robot::forwardPitch(e.sensors) * 180.0 / M_PI;
         const double torsoHeight = e.robot->linkPose(*e.world, model.torso).translation().z();
-        e.lying = torsoHeight < o.proneHeight && pitch >= o.pronePitch.lo && pitch <= o.pronePitch.hi;
+        e.lying = torsoHeight < proneCard->height && pitch >= proneCard->pitch.lo && pitch <= proneCard->pitch.hi;
         if (e.lying && e.proneTick < 0) e.proneTick = tick;
       }
       // lifted: on the left foot alone, the right sole at least liftHeight up (a folded leg's toe resting on the
       // ground does not count, however high the ankle is)
-      const bool lifted = e.sensors.footHeight[1] >= o.liftHeight && e.sensors.footContact[0] && !e.sensors.footContact[1];
+      const bool lifted = balanceCard && e.sensors.footHeight[1] >= balanceCard->liftHeight && e.sensors.footContact[0] &&
+                          !e.sensors.footContact[1];
       e.liftRun = lifted ? e.liftRun + 1 : 0;
       e.longestLift = std::max(e.longestLift, e.liftRun);
       if (e.pushes && tick >= e.nextPush) {
         engine::ArticulationState s;
         e.world->readState(e.robot->id(), &s);
         const double angle = 2 * M_PI * unit(e.rng);
-        const robot::Range& ps = o.pushSpeed.lo >= 0 ? o.pushSpeed : walk.randomisation.pushSpeed;
+        const robot::Range& ps = d.pushSpeed.lo >= 0 ? d.pushSpeed : walk.randomisation.pushSpeed;
         const double speed = ps.lo + (ps.hi - ps.lo) * unit(e.rng);
         s.baseLinearVelocity += Eigen::Vector3d(std::cos(angle), std::sin(angle), 0) * speed;
         e.world->setState(e.robot->id(), s);
@@ -259,7 +266,7 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
         e.lastPush = tick;
       }
       if (walking && tick % segment == 0 && tick < ticks) {
-        sampleCommand(o, e);
+        sampleCommand(d, e);
         if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
         e.segmentStart = tick;
       }
@@ -269,26 +276,29 @@ void runBatch(const robot::RobotModel& model, const robot::SkillDef& walk, const
 
 }  // namespace
 
-CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
+CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skill, const PolicyFn& policy,
                            const CardRun& run, const std::vector<HandoverStage>& leadIn) {
-  const robot::CardDef& o = run.card;
+  const CardDef& o = run.card;
+  if (!o.driven())
+    throw engine::Error("velocity card of '" + skill.name + "': a standup, pushup or crawl card runs as a ground card");
+  const DrivenCard& d = *o.driven();
   engine::WorkerPool pool(run.threads);
   std::mt19937_64 seeder(run.seed);
 
   std::vector<Episode> walking(size_t(o.episodes));
   for (Episode& e : walking) e.rng.seed(seeder());
-  runBatch(model, skill, policy, o, walking, int(std::lround(o.episodeSeconds / engine::kTickSeconds)), Mode::kWalking, pool,
+  runBatch(model, skill, policy, o, walking, int(std::lround(d.episodeSeconds / engine::kTickSeconds)), Mode::kWalking, pool,
            leadIn);
-  std::vector<Episode> standing(size_t(o.standEpisodes));
+  std::vector<Episode> standing(size_t(d.standEpisodes));
   for (Episode& e : standing) e.rng.seed(seeder());
-  runBatch(model, skill, policy, o, standing, int(std::lround(o.standSeconds / engine::kTickSeconds)), Mode::kStanding, pool,
+  runBatch(model, skill, policy, o, standing, int(std::lround(d.standSeconds / engine::kTickSeconds)), Mode::kStanding, pool,
            {});
 
   double kindError[4] = {0, 0, 0, 0};
   long kindCount[4] = {0, 0, 0, 0};
   int upright = 0;
   double speed = 0, yaw = 0, survival = 0, height = 0;
-  const double walkTicks = std::lround(o.episodeSeconds / engine::kTickSeconds);
+  const double walkTicks = std::lround(d.episodeSeconds / engine::kTickSeconds);
   long counted = 0;
   for (const Episode& e : walking) {
     upright += !e.fallen;
@@ -322,11 +332,11 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     if (limit < 0) r.figures.push_back({name, value, "(reported)", true});
     else r.figures.push_back({name, value, bar(limit, unit), atLeast ? value >= limit : value <= limit});
   };
-  add("episodes without a fall", noFall, o.noFallPercent, "%", true);
+  add("episodes without a fall", noFall, d.noFallPercent, "%", true);
   // tracking figures belong to the skills that move on command (and to any card that puts a bar on them)
-  const bool moves = o.kind == robot::CardDef::Kind::Velocity || o.kind == robot::CardDef::Kind::Stairs;
-  if (moves || o.speedError >= 0) add("mean |v - v_cmd|", meanSpeed, o.speedError, "m/s", false);
-  if (moves || o.yawError >= 0) add("mean |wz - wz_cmd|", meanYaw, o.yawError, "rad/s", false);
+  const bool moves = o.kind() == CardKind::Velocity || o.kind() == CardKind::Stairs;
+  if (moves || d.speedError >= 0) add("mean |v - v_cmd|", meanSpeed, d.speedError, "m/s", false);
+  if (moves || d.yawError >= 0) add("mean |wz - wz_cmd|", meanYaw, d.yawError, "rad/s", false);
   const double meanHeight = counted ? height / double(counted) : 1e9;
   if (!leadIn.empty()) {  // how often the way in (not the skill) fell and was drawn again
     int again = 0, lost = 0;
@@ -335,35 +345,35 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     if (lost > 0) r.figures.push_back({"episodes lost to their lead-in", double(lost), "(reported)", true});
   }
   double balanceScore = 0;
-  if (o.kind == robot::CardDef::Kind::Kick) {
+  if (const KickCard* kick = o.as<KickCard>()) {
     int success = 0;
     double best = 0;
     for (const Episode& e : walking) {
-      success += !e.fallen && e.bestKick >= o.kickSpeed;
+      success += !e.fallen && e.bestKick >= kick->speed;
       best += e.bestKick / std::max(1, o.episodes);
     }
     char name[96];
-    std::snprintf(name, sizeof name, "kicks >= %.1f m/s within %.0f deg, robot up", o.kickSpeed, o.kickAngleDegrees);
+    std::snprintf(name, sizeof name, "kicks >= %.1f m/s within %.0f deg, robot up", kick->speed, kick->angleDegrees);
     add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean ball speed within the angle [m/s]", best, "(reported)", true});
-    balanceScore = 2.0 * success / std::max(1, o.episodes) + std::min(best, o.kickSpeed) / std::max(0.1, o.kickSpeed);
+    balanceScore = 2.0 * success / std::max(1, o.episodes) + std::min(best, kick->speed) / std::max(0.1, kick->speed);
   }
-  if (o.kind == robot::CardDef::Kind::Jump) {
+  if (const JumpCard* jump = o.as<JumpCard>()) {
     int success = 0;
     double jumps = 0, apex = 0;
     for (const Episode& e : walking) {
-      success += !e.fallen && e.bestInARow >= o.jumps;
+      success += !e.fallen && e.bestInARow >= jump->jumps;
       jumps += double(e.jumps) / std::max(1, o.episodes);
       apex += e.bestApex / std::max(1, o.episodes);
     }
     char name[96];
-    std::snprintf(name, sizeof name, "episodes with %d jumps >= %.2f m in a row", o.jumps, o.jumpHeight);
+    std::snprintf(name, sizeof name, "episodes with %d jumps >= %.2f m in a row", jump->jumps, jump->height);
     add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean qualifying jumps per episode", jumps, "(reported)", true});
     r.figures.push_back({"mean best apex above start [m]", apex, "(reported)", true});
-    balanceScore = 2.0 * success / std::max(1, o.episodes) + std::min(jumps, double(o.jumps)) / o.jumps + 5.0 * std::min(apex, 0.2);
+    balanceScore = 2.0 * success / std::max(1, o.episodes) + std::min(jumps, double(jump->jumps)) / jump->jumps + 5.0 * std::min(apex, 0.2);
   }
-  if (o.kind == robot::CardDef::Kind::Stairs) {
+  if (const StairsCard* stairs = o.as<StairsCard>()) {
     int across = 0;
     double progress = 0;
     const double end = terrainEndX(skill.terrain);
@@ -372,7 +382,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
       progress += std::clamp(e.maxX / end, 0.0, 1.0) / std::max(1, o.episodes);
     }
     char name[96];
-    std::snprintf(name, sizeof name, "episodes up and down %d steps of %.2f m", skill.terrain.steps, o.stepHeight);
+    std::snprintf(name, sizeof name, "episodes up and down %d steps of %.2f m", skill.terrain.steps, stairs->stepHeight);
     add(name, 100.0 * across / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean progress along the stairs", 100.0 * progress, "(reported) %", true});
     double heading = 0;
@@ -384,23 +394,23 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
                            "(reported)", true});
     balanceScore = 2.0 * across / std::max(1, o.episodes) + 2.0 * progress;
   }
-  if (o.kind == robot::CardDef::Kind::Balance) {
+  if (const BalanceCard* balance = o.as<BalanceCard>()) {
     int success = 0;
     double longest = 0;
     for (const Episode& e : walking) {
-      success += !e.fallen && e.longestLift * engine::kTickSeconds >= o.liftSeconds;
+      success += !e.fallen && e.longestLift * engine::kTickSeconds >= balance->liftSeconds;
       longest += e.longestLift * engine::kTickSeconds / std::max(1, o.episodes);
     }
     char name[96];
-    std::snprintf(name, sizeof name, "episodes lifted >= %.2f m for %.0f s", o.liftHeight, o.liftSeconds);
+    std::snprintf(name, sizeof name, "episodes lifted >= %.2f m for %.0f s", balance->liftHeight, balance->liftSeconds);
     add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean longest lift [s]", longest, "(reported)", true});
-    balanceScore = 2.0 * success / std::max(1, o.episodes) + longest / std::max(1.0, o.liftSeconds);
+    balanceScore = 2.0 * success / std::max(1, o.episodes) + longest / std::max(1.0, balance->liftSeconds);
   }
-  if (o.kind == robot::CardDef::Kind::Prone) {
+  if (const ProneCard* prone = o.as<ProneCard>()) {
     int success = 0, reached = 0;
     double seconds = 0, peak = 0, meanPeak = 0;
-    const int limit = int(std::lround(o.proneSeconds / engine::kTickSeconds));
+    const int limit = int(std::lround(prone->seconds / engine::kTickSeconds));
     for (const Episode& e : walking) {
       const bool inTime = e.proneTick >= 0 && e.proneTick <= limit;
       success += !e.fallen && inTime && e.lying;
@@ -410,7 +420,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     }
     char name[128];
     std::snprintf(name, sizeof name, "episodes lying (torso < %.2f m, pitch %.0f-%.0f deg) within %.1f s and at the end",
-                  o.proneHeight, o.pronePitch.lo, o.pronePitch.hi, o.proneSeconds);
+                  prone->height, prone->pitch.lo, prone->pitch.hi, prone->seconds);
     add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean time to lying [s]", reached ? seconds / reached : 1e9, "(reported)", true});
     int side = 0, back = 0, over = 0;
@@ -432,10 +442,10 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
     balanceScore = 2.0 * success / std::max(1, o.episodes) + double(reached) / std::max(1, o.episodes) -
                    std::min(meanPeak, 500.0) / 500.0;
   }
-  if (o.kind == robot::CardDef::Kind::Height) add("mean |h - h_target| (pelvis)", meanHeight, o.heightError, "m", false);
+  if (o.kind() == CardKind::Height) add("mean |h - h_target| (pelvis)", meanHeight, o.as<HeightCard>()->heightError, "m", false);
   const char* kinds[4] = {"  of which forward/backward", "  of which sideways", "  of which turning", "  of which zero command"};
   for (int k = 0; k < 4; ++k)
-    if (moves && kindCount[k] && o.mix[size_t(k)] < 1.0) r.figures.push_back({kinds[k], kindError[k] / double(kindCount[k]), "(reported)", true});
+    if (moves && kindCount[k] && d.mix[size_t(k)] < 1.0) r.figures.push_back({kinds[k], kindError[k] / double(kindCount[k]), "(reported)", true});
   r.figures.push_back({"mean time survived (of each episode)", 100.0 * survival, "(reported) %", true});
   if (moves && upright < o.episodes) {
     int byKind[4] = {0, 0, 0, 0}, afterPush = 0, afterChange = 0;
@@ -446,15 +456,15 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
                   byKind[0], byKind[1], byKind[2], byKind[3], afterPush, afterChange);
     r.figures.push_back({name, double(o.episodes - upright), "(reported)", true});
     // when: falls per command segment of the episode
-    const int segmentTicks = std::max(1, int(std::lround(o.segmentSeconds / engine::kTickSeconds)));
-    const int segments = std::max(1, int(std::ceil(o.episodeSeconds / std::max(1e-9, o.segmentSeconds) - 1e-9)));
+    const int segmentTicks = std::max(1, int(std::lround(d.segmentSeconds / engine::kTickSeconds)));
+    const int segments = std::max(1, int(std::ceil(d.episodeSeconds / std::max(1e-9, d.segmentSeconds) - 1e-9)));
     std::vector<int> bySegment(size_t(segments), 0);
     for (const Episode& e : walking)
       if (e.fallen) ++bySegment[size_t(std::min(segments - 1, (e.fallTick - 1) / segmentTicks))];
     std::string when = "  falls per command segment:";
     for (int k = 0; k < segments; ++k) when += (k ? ", " : " ") + std::to_string(bySegment[size_t(k)]);
     r.figures.push_back({when, double(o.episodes - upright), "(reported)", true});
-    if (o.kind == robot::CardDef::Kind::Stairs) {  // where: by the pelvis's x when it fell
+    if (o.as<StairsCard>()) {  // where: by the pelvis's x when it fell
       const Eigen::Vector2d landing = stairsLandingX(skill.terrain);
       const double end = terrainEndX(skill.terrain);
       int where[5] = {0, 0, 0, 0, 0};  // before, up, landing, down, beyond
@@ -469,22 +479,22 @@ CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef
       r.figures.push_back({at, double(o.episodes - upright), "(reported)", true});
     }
   }
-  if (o.standEpisodes > 0) {
-    const double d = standFalls ? 1e9 : drift;
-    r.figures.push_back({"zero command: max drift over " + std::to_string(int(o.standSeconds)) + " s", d,
-                         o.standDrift < 0 ? "(reported)" : "< " + std::to_string(o.standDrift).substr(0, 4) + " m",
-                         o.standDrift < 0 || d < o.standDrift});
+  if (d.standEpisodes > 0) {
+    const double most = standFalls ? 1e9 : drift;
+    r.figures.push_back({"zero command: max drift over " + std::to_string(int(d.standSeconds)) + " s", most,
+                         d.standDrift < 0 ? "(reported)" : "< " + std::to_string(d.standDrift).substr(0, 4) + " m",
+                         d.standDrift < 0 || most < d.standDrift});
   }
   r.pass = true;
   for (const CardFigure& f : r.figures) r.pass = r.pass && f.pass;
   // survival counts twice so that a policy cannot score by falling before tracking errors accumulate
   r.score = 2.0 * survival + noFall / 100.0 - std::min(meanSpeed, 2.0) - 0.5 * std::min(meanYaw, 2.0) -
-            (o.kind == robot::CardDef::Kind::Height ? 5.0 * std::min(meanHeight, 1.0) : 0.0) -
-            (o.standEpisodes == 0 ? 0.0 : standFalls ? 1.0 : std::min(drift, 1.0)) + balanceScore;
+            (o.kind() == CardKind::Height ? 5.0 * std::min(meanHeight, 1.0) : 0.0) -
+            (d.standEpisodes == 0 ? 0.0 : standFalls ? 1.0 : std::min(drift, 1.0)) + balanceScore;
   return r;
 }
 
-std::vector<SweepRow> runSpeedSweep(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
+std::vector<SweepRow> runSpeedSweep(const robot::RobotModel& model, const SkillSpec& walk, const PolicyFn& policy,
                                     const std::vector<robot::SkillCommand>& commands, double seconds, int threads) {
   engine::WorkerPool pool(threads);
   std::vector<Episode> eps(commands.size());
@@ -492,8 +502,9 @@ std::vector<SweepRow> runSpeedSweep(const robot::RobotModel& model, const robot:
     eps[i].rng.seed(i + 1);  // only the spawn heading is random
     eps[i].command = commands[i];
   }
-  robot::CardDef o;
-  o.segmentSeconds = seconds + 1;
+  CardDef o;
+  o.card = VelocityCard{};
+  o.driven()->segmentSeconds = seconds + 1;
   runBatch(model, walk, policy, o, eps, int(std::lround(seconds / engine::kTickSeconds)), Mode::kSweep, pool, {});
   std::vector<SweepRow> rows;
   for (const Episode& e : eps) {

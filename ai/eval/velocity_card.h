@@ -10,7 +10,7 @@
 
 #include "ai/env/skill_env.h"
 #include "robot/skill_layout.h"
-#include "robot/skill_tree.h"
+#include "ai/tree/training_tree.h"
 
 namespace ai {
 
@@ -19,7 +19,7 @@ using PolicyFn = std::function<void(const Eigen::MatrixXf& observations, Eigen::
 
 /// How to run a card: the tree file's card definition plus the run's seed and threads.
 struct CardRun {
-  robot::CardDef card;
+  CardDef card;
   uint64_t seed = 1;
   int threads = 2;
 };
@@ -39,11 +39,11 @@ struct CardResult {
   double score = 0;
 };
 
-/// Runs a velocity or height card (CardDef::Kind::Velocity / Height). Commands are one of forward, sideways, turn or zero at a
+/// Runs a velocity or height card (CardKind::Velocity / Height, and the other driven kinds). Commands are one of forward, sideways, turn or zero at a
 /// time (the keyboard's interlock), drawn with the card's mix. With `leadIn` (the card's lead_in: the skills that
 /// drive first, as in the skill's training handover episodes, see runHandover) each randomised episode starts where
 /// that route leaves the robot. Results do not depend on the thread count.
-CardResult runVelocityCard(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyFn& policy,
+CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skill, const PolicyFn& policy,
                            const CardRun& run, const std::vector<HandoverStage>& leadIn = {});
 
 /// One row of a speed sweep: a fixed command held for the whole episode, no pushes, friction 1.
@@ -55,7 +55,7 @@ struct SweepRow {
 };
 
 /// Holds each command for `seconds` and reports what the policy achieved: where a card's tracking error comes from.
-std::vector<SweepRow> runSpeedSweep(const robot::RobotModel& model, const robot::SkillDef& walk, const PolicyFn& policy,
+std::vector<SweepRow> runSpeedSweep(const robot::RobotModel& model, const SkillSpec& walk, const PolicyFn& policy,
                                     const std::vector<robot::SkillCommand>& commands, double seconds, int threads);
 
 }  // namespace ai

@@ -8,7 +8,7 @@
 #include "robot/skill_controller.h"
 
 namespace ai {
-double askedFootLift(const robot::SkillDef& skill, double amplitude) {
+double askedFootLift(const SkillSpec& skill, double amplitude) {
   double first, late;
   robot::poseStages(skill.prior, amplitude, &first, &late);
   return kFootLiftHeight * (skill.prior.hasLate ? late : amplitude);
@@ -238,7 +238,7 @@ const std::vector<RewardTerm>& rewardTermTable() {
   return kTable;
 }
 
-std::vector<WeightedTerm> resolveRewardTerms(const robot::SkillDef& skill, const std::string& treePath) {
+std::vector<WeightedTerm> resolveRewardTerms(const SkillSpec& skill, const std::string& treePath) {
   std::vector<WeightedTerm> out;
   for (const auto& [name, weight] : skill.rewardWeights) {
     const RewardTerm* found = nullptr;

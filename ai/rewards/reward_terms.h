@@ -8,7 +8,7 @@
 
 #include "engine/physics/physics_world.h"
 #include "robot/skill_layout.h"
-#include "robot/skill_tree.h"
+#include "ai/tree/training_tree.h"
 
 namespace ai {
 
@@ -18,7 +18,7 @@ struct RewardContext {
   const robot::SkillCommand* command = nullptr;
   const std::array<float, robot::kActionSize>* action = nullptr;          ///< clipped policy output this tick
   const std::array<float, robot::kActionSize>* previousAction = nullptr;  ///< the tick before
-  const robot::SkillDef* skill = nullptr;                                  ///< the skill being trained
+  const SkillSpec* skill = nullptr;                                  ///< the skill being trained
   const engine::BallState* ball = nullptr;  ///< the kick's ball, if the skill has one
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();  ///< where the ball should go (world unit vector)
   /// where the pelvis was (world x, y) when the current zero command began or the last push ended; nullptr while
@@ -56,7 +56,7 @@ constexpr double kPronePelvisHeight = 0.12;
 constexpr double kFootLiftHeight = 0.12;
 /// The right sole's height asked of a skill at an amplitude command [m]: kFootLiftHeight x the amplitude, or x a
 /// two-stage pose's late weight (the one-leg stand lifts the foot in its late stage only).
-double askedFootLift(const robot::SkillDef& skill, double amplitude);
+double askedFootLift(const SkillSpec& skill, double amplitude);
 
 /// pushup_height: the pelvis at the bottom and at the top of a push-up (measured with the pushup prior alone
 /// from the prone pose: 0.10-0.12 m and 0.19-0.23 m) [m].
@@ -64,7 +64,7 @@ constexpr double kPushUpPelvisLow = 0.11;
 constexpr double kPushUpPelvisHigh = 0.21;
 
 /// The pelvis height a skill is asked for at an amplitude command (its commands.pelvis_height, linear).
-inline double targetPelvisHeight(const robot::SkillDef& skill, double amplitude) {
+inline double targetPelvisHeight(const SkillSpec& skill, double amplitude) {
   const robot::Range& h = skill.commands.pelvisHeight;
   return h.lo + amplitude * (h.hi - h.lo);
 }
@@ -93,6 +93,6 @@ struct WeightedTerm {
 };
 
 /// Resolves the skill's reward names against the table; throws engine::Error "tree.toml:line: unknown reward term".
-std::vector<WeightedTerm> resolveRewardTerms(const robot::SkillDef& skill, const std::string& treePath);
+std::vector<WeightedTerm> resolveRewardTerms(const SkillSpec& skill, const std::string& treePath);
 
 }  // namespace ai

@@ -54,7 +54,7 @@ void say(const Log& log, const char* fmt, ...) {
 
 TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, const Log& log,
                             const std::function<void(Trainer*)>& onTrainer) {
-  const robot::SkillDef& skill = *l.skill;
+  const SkillSpec& skill = *l.skill;
   const std::string treeText = engine::readFile(l.tree.path);
   // [ppo], then the skill's own [skill.NAME.ppo] overrides (not inherited by its branches)
   PpoConfig config = parsePpoConfig(treeText, l.tree.path, "ppo");
@@ -82,7 +82,7 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   envOptions.threads = o.threads;
   std::shared_ptr<LoadedPolicy> handoverPolicy;
   if (skill.handover > 0) {  // episodes that start under the parent's (or handover_from's) shipped model
-    const robot::SkillDef* parent = l.tree.find(skill.handoverFrom.empty() ? skill.parent : skill.handoverFrom);
+    const SkillSpec* parent = l.tree.find(skill.handoverFrom.empty() ? skill.parent : skill.handoverFrom);
     const std::string path = modelsDir + "/" + parent->model;
     if (!std::filesystem::exists(path))
       throw engine::Error(path + ": the parent skill '" + parent->name + "' has no model yet (handover episodes start under it): train " +
@@ -93,9 +93,9 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     say(log, "handover episodes: %.0f %% start under '%s' (%s) for %.1f-%.1f s\n", 100 * skill.handover,
                 parent->name.c_str(), path.c_str(), skill.handoverSeconds.lo, skill.handoverSeconds.hi);
     // the skills between handover_from and this one, which a routed request passes through in play
-    const std::vector<const robot::SkillDef*> route = handoverRoute(l.tree, skill);
+    const std::vector<const SkillSpec*> route = handoverRoute(l.tree, skill);
     for (auto it = route.begin() + 1; it != route.end(); ++it) {
-      const robot::SkillDef* v = *it;
+      const SkillSpec* v = *it;
       const std::string vpath = modelsDir + "/" + v->model;
       if (!std::filesystem::exists(vpath))
         throw engine::Error(vpath + ": the skill '" + v->name + "' has no model yet (handover episodes route through it): train " +
@@ -108,7 +108,7 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   }
   std::shared_ptr<LoadedPolicy> backPolicy;
   if (skill.handoverBack > 0) {  // episodes that start under a child's shipped model (the way back up the tree)
-    const robot::SkillDef* child = l.tree.find(skill.handoverBackFrom);
+    const SkillSpec* child = l.tree.find(skill.handoverBackFrom);
     const std::string path = modelsDir + "/" + child->model;
     if (!std::filesystem::exists(path))
       throw engine::Error(path + ": the skill '" + child->name + "' has no model yet (handover_back episodes start under it): train " +
@@ -132,13 +132,13 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   CardDrivers drivers;
   double bestConfirmed = -std::numeric_limits<double>::infinity();  // --eval-confirm: the best confirmed score
   const Trainer* trainerSeen = nullptr;  // set once the trainer exists (a resumed run's best is in its checkpoint)
-  if (skill.card.kind != robot::CardDef::Kind::None && o.evalEvery > 0) {
+  if (skill.card.kind() != CardKind::None && o.evalEvery > 0) {
     drivers = loadCardDrivers(l, modelsDir);
     // one card on the policy in memory: `label` heads its line, `what` names the card in its verdict
     auto scoreOn = [&](const PolicyState& p, uint64_t seed, int episodes, const char* label, const char* what) {
       CardRun card{skill.card, seed, o.threads};
       card.card.episodes = episodes;
-      card.card.standEpisodes = std::min(4, skill.card.standEpisodes);
+      if (DrivenCard* driven = card.card.driven()) driven->standEpisodes = std::min(4, driven->standEpisodes);
       const CardResult r = runSkillCard(
           l, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { actDeterministic(p, obs, act); }, card, drivers);
       std::string line = "  " + std::string(label) + ": ";
@@ -183,7 +183,7 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     say(log, "initialised from %s (fine-tuning: fresh optimiser and schedules, the normaliser's statistics kept)%s\n",
                 o.initFrom.c_str(), std::isnan(o.initLogStd) ? "" : ", log-std set");
   } else if (!o.resume && !skill.parent.empty()) {
-    const robot::SkillDef* parent = l.tree.find(skill.parent);
+    const SkillSpec* parent = l.tree.find(skill.parent);
     const std::string parentPolicy = modelsDir + "/" + parent->name + ".policy.bin";
     if (!std::filesystem::exists(parentPolicy))
       throw engine::Error(parentPolicy + ": the parent skill '" + parent->name + "' has no policy file yet: train " +
@@ -210,12 +210,12 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   return {runDir, iterationsRun, trainer.iteration(), trainer.envSteps(), steps};
 }
 
-std::string exportedModelPath(const std::string& runDir, const robot::SkillDef& skill) { return runDir + "/" + skill.model; }
-std::string exportedPolicyPath(const std::string& runDir, const robot::SkillDef& skill) {
+std::string exportedModelPath(const std::string& runDir, const SkillSpec& skill) { return runDir + "/" + skill.model; }
+std::string exportedPolicyPath(const std::string& runDir, const SkillSpec& skill) {
   return runDir + "/" + skill.name + ".policy.bin";
 }
 
-void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyState& policy,
+void exportSkill(const robot::RobotModel& model, const SkillSpec& skill, const PolicyState& policy,
                  const std::string& onnxPath, const std::string& policyPath, const PolicyInfo& info, uint64_t seed) {
   for (const std::string& path : {onnxPath, policyPath}) {
     const std::string dir = std::filesystem::path(path).parent_path().string();

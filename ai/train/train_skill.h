@@ -54,11 +54,11 @@ TrainSkillResult trainSkill(const SkillContext& skill, const TrainSkillOptions& 
                             const std::function<void(Trainer*)>& onTrainer = {});
 
 /// The run folder's exported model and policy file: RUN/SKILL.onnx, RUN/SKILL.policy.bin.
-std::string exportedModelPath(const std::string& runDir, const robot::SkillDef& skill);
-std::string exportedPolicyPath(const std::string& runDir, const robot::SkillDef& skill);
+std::string exportedModelPath(const std::string& runDir, const SkillSpec& skill);
+std::string exportedPolicyPath(const std::string& runDir, const SkillSpec& skill);
 
 /// Writes the ONNX model (with the skill's metadata) and the policy file (with where it came from: `info`).
-void exportSkill(const robot::RobotModel& model, const robot::SkillDef& skill, const PolicyState& policy,
+void exportSkill(const robot::RobotModel& model, const SkillSpec& skill, const PolicyState& policy,
                  const std::string& onnxPath, const std::string& policyPath, const PolicyInfo& info, uint64_t seed);
 
 /// Exports `policy` into the run folder and says (in `log`) how to ship it.

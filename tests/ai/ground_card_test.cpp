@@ -21,24 +21,24 @@ const ai::CardFigure& figure(const ai::CardResult& r, const std::string& start) 
 }
 
 struct Tree {
-  robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
-  const robot::SkillDef& prone = *tree.find("prone");
-  const robot::SkillDef& walk = *tree.find("walk");
-  robot::SkillDef standup = *tree.find("standup");
+  ai::TrainingTree tree = ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const ai::SkillSpec& prone = *tree.find("prone");
+  const ai::SkillSpec& walk = *tree.find("walk");
+  ai::SkillSpec standup = *tree.find("standup");
   // two episodes of `skill`'s own card at `seed`, on one thread
-  static ai::CardRun twoEpisodes(const robot::SkillDef& skill, uint64_t seed) {
+  static ai::CardRun twoEpisodes(const ai::SkillSpec& skill, uint64_t seed) {
     ai::CardRun r{skill.card, seed, 1};
     r.card.episodes = 2;
     return r;
   }
   // a push-up or crawl card of `skill`, its prior and prone's alone (zero network output)
-  ai::CardResult groundCard(const robot::SkillDef& skill, ai::CardRun run) const {
+  ai::CardResult groundCard(const ai::SkillSpec& skill, ai::CardRun run) const {
     return ai::runGroundCard(fixtures::robotModel(), skill, kZero, run, {&prone, kZero}, {});
   }
   ai::CardRun run() const {
     ai::CardRun r{standup.card, 7, 1};
     r.card.episodes = 3;
-    r.card.lieSeconds = {3.0, 4.0};
+    r.card.as<ai::StandUpCard>()->lieSeconds = {3.0, 4.0};
     return r;
   }
 };
@@ -70,7 +70,7 @@ TEST(StandUpCard, ASkillThatDoesNotRiseFailsIt) {
 // 0.26 m every 1.6 s cycle (6 push-ups in the 10 s after a 0.6 s lead-in)
 TEST(PushUpCard, ThePriorsAloneLieDownThenPushUpSixTimesInTenSeconds) {
   Tree t;
-  robot::SkillDef pushup = *t.tree.find("pushup");
+  ai::SkillSpec pushup = *t.tree.find("pushup");
   ai::CardRun run = Tree::twoEpisodes(pushup, 7);
   const ai::CardResult r = t.groundCard(pushup, run);
   EXPECT_EQ(figure(r, "lying face down when").value, 100.0);
@@ -79,7 +79,7 @@ TEST(PushUpCard, ThePriorsAloneLieDownThenPushUpSixTimesInTenSeconds) {
   EXPECT_GT(figure(r, "mean chest (shoulders) rise").value, figure(r, "mean torso rise per push-up").value);
   EXPECT_TRUE(r.pass);
   // a bar of 0.2 m for the torso's rise is out of its reach: no push-up counts
-  run.card.pushUpRise = 0.2;
+  run.card.as<ai::PushUpCard>()->rise = 0.2;
   const ai::CardResult high = t.groundCard(pushup, run);
   EXPECT_EQ(figure(high, "mean push-ups per episode").value, 0.0);
   EXPECT_FALSE(high.pass);
@@ -90,9 +90,9 @@ TEST(PushUpCard, ThePriorsAloneLieDownThenPushUpSixTimesInTenSeconds) {
 // stays where it lay and fails
 TEST(CrawlCard, ThePriorAloneCrawlsForwardUnderTheCeilingAndStandingStillFails) {
   Tree t;
-  robot::SkillDef crawl = *t.tree.find("crawl");
+  ai::SkillSpec crawl = *t.tree.find("crawl");
   ai::CardRun run = Tree::twoEpisodes(crawl, 3);
-  run.card.crawlDistance = 1.5;  // 1.5 m within 6 s
+  run.card.as<ai::CrawlCard>()->distance = 1.5;  // 1.5 m within 6 s
   crawl.randomisation.friction = {1.0, 1.0};  // the prior alone is friction-sensitive (crawl.train.md): at 1 it crawls
   const ai::CardResult r = t.groundCard(crawl, run);
   EXPECT_EQ(figure(r, "lying face down when").value, 100.0);
@@ -109,16 +109,16 @@ TEST(CrawlCard, ThePriorAloneCrawlsForwardUnderTheCeilingAndStandingStillFails) 
 // steering, through the prior's turn term (the shipped one), turns it back toward the tunnel's axis as a player would
 TEST(CrawlCard, TheCardSteersATurningCrawlBackTowardTheAxis) {
   Tree t;
-  robot::SkillDef crawl = *t.tree.find("crawl");
+  ai::SkillSpec crawl = *t.tree.find("crawl");
   crawl.randomisation.friction = {1.0, 1.0};
   for (robot::PriorDef::Keyframe& key : crawl.prior.keyframes)
     if (key.tick >= crawl.prior.cycleStartTick) key.offset[12] += 0.05;  // waist_yaw: a left turn on every cycle
   ai::CardRun run = Tree::twoEpisodes(crawl, 3);
-  run.card.crawlDistance = 2.0;
-  run.card.episodeSeconds = 14.0;
-  run.card.steer = 0.0;  // nobody steers
+  run.card.as<ai::CrawlCard>()->distance = 2.0;
+  run.card.as<ai::CrawlCard>()->episodeSeconds = 14.0;
+  run.card.as<ai::CrawlCard>()->steer = 0.0;  // nobody steers
   const ai::CardResult drifting = t.groundCard(crawl, run);
-  run.card.steer = 1.0;
+  run.card.as<ai::CrawlCard>()->steer = 1.0;
   const ai::CardResult steered = t.groundCard(crawl, run);
   const double before = figure(drifting, "heading off the tunnel's axis at the end, mean (left").value;
   const double after = figure(steered, "heading off the tunnel's axis at the end, mean (left").value;

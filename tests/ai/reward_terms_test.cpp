@@ -18,7 +18,7 @@ struct Context {
   robot::Sensors sensors;
   robot::SkillCommand command;
   std::array<float, robot::kActionSize> action{}, previous{};
-  robot::SkillDef skill;
+  ai::SkillSpec skill;
   engine::BallState ball;
   ai::RewardContext get(bool withBall = false) {
     return {&sensors, &command, &action, &previous, &skill, withBall ? &ball : nullptr, Eigen::Vector2d(1, 0)};

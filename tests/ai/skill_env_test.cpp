@@ -17,7 +17,7 @@ const std::string kSource = TREELEARN_SOURCE_DIR;
 
 struct Fixture {
   robot::RobotModel model = robot::loadRobotModel(kSource + "/assets/robots/g1_23dof.toml");
-  robot::SkillTree tree = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", model);
+  ai::TrainingTree tree = ai::loadTrainingTree(kSource + "/assets/skills/tree.toml", model);
 };
 
 const Fixture& fixture() {
@@ -50,7 +50,7 @@ std::vector<float> rollout(int threads, uint64_t seed, int steps) {
 }
 
 // nothing ends the skill's episodes (no tilt, height, time or lifted-foot limit): only what a test watches changes
-void neverEnds(robot::SkillDef* s) {
+void neverEnds(ai::SkillSpec* s) {
   s->termination.maxTiltDegrees = 180.0;
   s->termination.minHeight = -10.0;
   s->termination.episodeSeconds = 100.0;
@@ -125,7 +125,7 @@ void zeroRollout(ai::SkillEnv* env, int steps, uint64_t seed = 1) {
 }  // namespace
 
 TEST(Curriculum, LessonAdvancesAtTheRolloutEndWhenTheSmoothedReturnPassesTheBarAndSurvivesACheckpoint) {
-  robot::SkillDef stairs = *fixture().tree.find("stairs");
+  ai::SkillSpec stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 0.2;  // 20-tick episodes: many finish quickly
   stairs.terrain.advanceAt = 0.01;          // a zero policy still earns a little (the total is clipped at 0)
   ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
@@ -153,7 +153,7 @@ TEST(Curriculum, LessonAdvancesAtTheRolloutEndWhenTheSmoothedReturnPassesTheBarA
 TEST(Curriculum, EpisodesLongerThanTheRolloutCountForWhatTheyPlayed) {
   // the walk's 20 s time limit is longer than a rollout: no episode times out, and standing without a fall for
   // the whole rollout must still count (it once did not, and a curriculum with only falls to measure never moved)
-  robot::SkillDef stairs = *fixture().tree.find("stairs");
+  ai::SkillSpec stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 20.0;
   stairs.terrain.advanceAt = 0.01;
   ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
@@ -170,7 +170,7 @@ TEST(Curriculum, ScoreIsTheReturnPerTickEachEpisodeCouldPlayAveragedOverTheLesso
   // by hand from the step results: every episode of a 260-step rollout with a 1.5 s time limit, finished (fallen
   // or timed out) or cut by the rollout's end, scores return / min(150, 260 - its first step); those that could
   // play fewer than 100 ticks are left out; the score is the bias-corrected average (weight 0.02 per episode)
-  robot::SkillDef stairs = *fixture().tree.find("stairs");
+  ai::SkillSpec stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 1.5;
   stairs.terrain.advanceAt = 1e9;  // never: only the score is checked
   const int n = 3, steps = 260, limit = 150;
@@ -209,14 +209,14 @@ TEST(Curriculum, ScoreIsTheReturnPerTickEachEpisodeCouldPlayAveragedOverTheLesso
 }
 
 TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
-  robot::SkillDef run = *fixture().tree.find("run");
+  ai::SkillSpec run = *fixture().tree.find("run");
   run.handover = 0;           // no walk policy here: ordinary episodes only
-  run.commands.ramp = false;  // each draw at once, so the lesson's top shows in the observed command
+  run.draws.ramp = false;  // each draw at once, so the lesson's top shows in the observed command
   run.termination.episodeSeconds = 0.2;
   run.curriculum.vxMax = {1.0, 1.5, run.commands.vx.hi};
   run.curriculum.halfPeriodTicks = {40, 35, run.prior.halfPeriodTicks};
   run.curriculum.advanceAt = 0.01;
-  run.commands.resampleSeconds = 0.05;  // a new draw every 5 ticks: many draws per lesson
+  run.draws.resampleSeconds = 0.05;  // a new draw every 5 ticks: many draws per lesson
   ai::SkillEnv env(fixture().model, run, fixture().tree.path, envOptions(4, 1, false));
   EXPECT_DOUBLE_EQ(env.lessonSkill().commands.vx.hi, 1.0);
   EXPECT_EQ(env.lessonSkill().prior.halfPeriodTicks, 40);
@@ -247,7 +247,7 @@ TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
 }
 
 TEST(Curriculum, AmplitudeLessonsRaiseTheAmplitudeTop) {
-  robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
+  ai::SkillSpec oneLeg = *fixture().tree.find("one_leg");
   oneLeg.curriculum.amplitudeMax = {0.6, oneLeg.commands.amplitude.hi};
   oneLeg.curriculum.advanceAt = 0.01;
   oneLeg.handover = 0;  // episodes from the spawn (a handover needs the walk's policy)
@@ -262,7 +262,7 @@ TEST(Curriculum, AmplitudeLessonsRaiseTheAmplitudeTop) {
 }
 
 TEST(Curriculum, NoLessonChangeBelowTheBar) {
-  robot::SkillDef stairs = *fixture().tree.find("stairs");
+  ai::SkillSpec stairs = *fixture().tree.find("stairs");
   stairs.termination.episodeSeconds = 0.2;
   stairs.terrain.advanceAt = 100.0;  // unreachable
   ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
@@ -276,9 +276,9 @@ TEST(Curriculum, NoLessonChangeBelowTheBar) {
 }
 
 TEST(SkillEnv, RampedAmplitudeMovesAtMostItsRatePerTick) {
-  robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
+  ai::SkillSpec oneLeg = *fixture().tree.find("one_leg");
   oneLeg.handover = 0;  // episodes from the spawn (a handover needs the walk's policy)
-  ASSERT_DOUBLE_EQ(oneLeg.commands.amplitudeRate, 1.0);  // the R / F keys' rate: 0.01 per tick
+  ASSERT_DOUBLE_EQ(oneLeg.draws.amplitudeRate, 1.0);  // the R / F keys' rate: 0.01 per tick
   ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, envOptions(2, 1, false));
   Eigen::MatrixXf obs;
   env.reset(3, &obs);
@@ -299,10 +299,10 @@ TEST(SkillEnv, RampedAmplitudeMovesAtMostItsRatePerTick) {
 }
 
 TEST(SkillEnv, RampedVelocityCommandsMoveAtTheKeyboardRatesOneAxisAtATime) {
-  robot::SkillDef walk = *fixture().tree.find("walk");
-  walk.commands.ramp = true;
-  walk.commands.zeroProbability = 0.0;
-  walk.commands.resampleSeconds = 2.0;  // several changes within the run
+  ai::SkillSpec walk = *fixture().tree.find("walk");
+  walk.draws.ramp = true;
+  walk.draws.zeroProbability = 0.0;
+  walk.draws.resampleSeconds = 2.0;  // several changes within the run
   ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(4, 1, false));
   Eigen::MatrixXf obs;
   env.reset(5, &obs);
@@ -331,14 +331,14 @@ TEST(SkillEnv, RampedVelocityCommandsMoveAtTheKeyboardRatesOneAxisAtATime) {
   EXPECT_GT(moving, 700);  // the commands did move
 }
 
-// [commands] steer: while W moves the robot, play's heading hold adds a turn of at most 0.2 rad/s; a steered skill
+// [draws] steer: while W moves the robot, play's heading hold adds a turn of at most 0.2 rad/s; a steered skill
 // meets such turns in training, on top of the keys' interlocked and ramped command
 TEST(SkillEnv, ASteeredForwardCommandTurnsAtItsDrawWhileTheRampKeepsItsRates) {
-  robot::SkillDef walk = *fixture().tree.find("walk");
-  walk.commands.ramp = true;
-  walk.commands.zeroProbability = 0.0;
-  walk.commands.resampleSeconds = 2.0;
-  walk.commands.steer = 0.3;
+  ai::SkillSpec walk = *fixture().tree.find("walk");
+  walk.draws.ramp = true;
+  walk.draws.zeroProbability = 0.0;
+  walk.draws.resampleSeconds = 2.0;
+  walk.draws.steer = 0.3;
   ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(4, 1, false));
   Eigen::MatrixXf obs;
   env.reset(5, &obs);
@@ -369,10 +369,10 @@ TEST(SkillEnv, ASteeredForwardCommandTurnsAtItsDrawWhileTheRampKeepsItsRates) {
 // stairs' training went to turns in place on the steps their card never asks for)
 TEST(SkillEnv, WithoutTurnsInPlaceNoDrawTurnsTheRobotOnTheSpot) {
   for (const bool turns : {true, false}) {
-    robot::SkillDef walk = *fixture().tree.find("walk");
-    walk.commands.zeroProbability = 0.0;
-    walk.commands.resampleSeconds = 0.2;  // many draws
-    walk.commands.turnInPlace = turns;
+    ai::SkillSpec walk = *fixture().tree.find("walk");
+    walk.draws.zeroProbability = 0.0;
+    walk.draws.resampleSeconds = 0.2;  // many draws
+    walk.draws.turnInPlace = turns;
     ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(4, 1, false));
     Eigen::MatrixXf obs;
     env.reset(5, &obs);
@@ -395,10 +395,10 @@ TEST(SkillEnv, WithoutTurnsInPlaceNoDrawTurnsTheRobotOnTheSpot) {
 }
 
 TEST(SkillEnv, JitteredCommandIntervalsVaryWithinTheirBand) {
-  robot::SkillDef walk = *fixture().tree.find("walk");
-  walk.commands.zeroProbability = 0.0;
-  walk.commands.resampleSeconds = 1.0;
-  walk.commands.resampleJitter = 0.5;  // 0.5 .. 1.5 s
+  ai::SkillSpec walk = *fixture().tree.find("walk");
+  walk.draws.zeroProbability = 0.0;
+  walk.draws.resampleSeconds = 1.0;
+  walk.draws.resampleJitter = 0.5;  // 0.5 .. 1.5 s
   neverEnds(&walk);  // only command changes are watched
   ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(1, 1, false));
   Eigen::MatrixXf obs;
@@ -428,9 +428,9 @@ TEST(SkillEnv, HandoverEpisodesStartWithTheParentsFilteredAction) {
   // -0.4 on both legs), so the robot stands bent; the squat starts each handover episode after 0.5 s of it (plus
   // the wait for rest), with the parent's low-passed action (u = 0.8 u + 0.2 a: within 0.8^50 of it) in its
   // previous-action slot. Without handover the slot is 0.
-  robot::SkillDef walk = *fixture().tree.find("walk");
+  ai::SkillSpec walk = *fixture().tree.find("walk");
   walk.prior.kind = robot::PriorDef::Kind::None;
-  robot::SkillDef squat = *fixture().tree.find("squat");
+  ai::SkillSpec squat = *fixture().tree.find("squat");
   squat.handoverSeconds = {0.5, 0.5};
   Eigen::VectorXf crouch = Eigen::VectorXf::Zero(robot::kActionSize);
   for (int leg : {0, 6}) crouch(leg + 0) = -0.4f, crouch(leg + 3) = 0.8f, crouch(leg + 4) = -0.4f;
@@ -457,8 +457,8 @@ TEST(SkillEnv, HandoverEpisodesStartWithTheParentsFilteredAction) {
 
 // the route walk -> squat -> jump of a handover: the walk without a gait, the walk's time 0.5 s and the squat's 0.3 s
 struct JumpRoute {
-  robot::SkillDef walk, jump;
-  const robot::SkillDef& squat;
+  ai::SkillSpec walk, jump;
+  const ai::SkillSpec& squat;
 };
 JumpRoute jumpRoute() {
   JumpRoute r{*fixture().tree.find("walk"), *fixture().tree.find("jump"), *fixture().tree.find("squat")};
@@ -482,7 +482,7 @@ TEST(SkillEnv, HandoverFromAGrandparentRoutesThroughTheSkillBetweenForItsTime) {
   // squat's low-passed action in its previous-action slot (within 0.8^30 of it, from the walk's).
   JumpRoute r = jumpRoute();
   r.jump.handover = 1.0;
-  const robot::SkillDef &walk = r.walk, &jump = r.jump, &squat = r.squat;
+  const ai::SkillSpec &walk = r.walk, &jump = r.jump, &squat = r.squat;
   const Eigen::VectorXf crouch = legCrouch(-0.4f, 0.8f, -0.4f), deeper = legCrouch(-0.5f, 1.0f, -0.5f);
   std::atomic<int> walkCalls{0}, squatCalls{0};
   ai::SkillEnvOptions options = envOptions(4, 2, false);
@@ -514,7 +514,7 @@ TEST(SkillEnv, AHandoverIntoTheJumpWaitsForASettledStandAsPlayDoes) {
   // once from a still skill: the jump card's entries had leg joints at up to 4.7 rad/s). A squat that never stops
   // bobbing never hands over: the lead-in is drawn again.
   const JumpRoute r = jumpRoute();
-  const robot::SkillDef &walk = r.walk, &jump = r.jump, &squat = r.squat;
+  const ai::SkillSpec &walk = r.walk, &jump = r.jump, &squat = r.squat;
   const Eigen::VectorXf crouch = legCrouch(-0.4f, 0.8f, -0.4f), deeper = legCrouch(-0.6f, 1.2f, -0.6f);
   for (const int bobTicks : {50, 1000000}) {
     int squatCalls = 0;
@@ -548,10 +548,10 @@ TEST(SkillEnv, ARampedCommandGoesOnFromTheHandoversAsTheKeysDoInPlay) {
   // the walk (no gait, zero output: it stands) is driven with W held at 1.0 m/s for 0.6 s: the keys' ramp
   // (0.02 m/s per tick) reaches 1.0 after 50 ticks. The run (ramped commands) then starts from that 1.0 and ramps
   // on to its own draw; an ordinary episode starts from 0 (each observation shows the command one tick of the ramp on).
-  robot::SkillDef walk = *fixture().tree.find("walk");
+  ai::SkillSpec walk = *fixture().tree.find("walk");
   walk.prior.kind = robot::PriorDef::Kind::None;
-  robot::SkillDef run = *fixture().tree.find("run");
-  ASSERT_TRUE(run.commands.ramp);
+  ai::SkillSpec run = *fixture().tree.find("run");
+  ASSERT_TRUE(run.draws.ramp);
   run.handoverSeconds = {0.6, 0.6};
   run.handoverVx = {1.0, 1.0};
   ai::SkillEnvOptions options = envOptions(4, 2, false);
@@ -570,7 +570,7 @@ TEST(SkillEnv, ARampedCommandGoesOnFromTheHandoversAsTheKeysDoInPlay) {
 
 TEST(SkillEnv, ABallAbsentShareStartsThatShareOfEpisodesWithoutTheBall) {
   // the kick's entry without handovers; the ball's aux slots are its offset ahead (~0.3 m) or 0 without a ball
-  robot::SkillDef kick = *fixture().tree.find("kick");
+  ai::SkillSpec kick = *fixture().tree.find("kick");
   kick.handover = 0;
   auto ballless = [&](double absent) {
     kick.ball.absent = absent;
@@ -597,12 +597,12 @@ TEST(SkillEnv, HandoverFromAChildStartsUnderItFromTheStandAndSwitchesOnceSettled
   // from the standing controller, jumps for 1 s and the squat takes over once the robot stands settled between
   // jumps (leg joints slower than kSettledJointSpeed, the pelvis slower than kRestSpeed), with the jump's
   // low-passed action in its previous-action slot. No walk policy is called: these episodes start under the child.
-  robot::SkillDef squat = *fixture().tree.find("squat");
+  ai::SkillSpec squat = *fixture().tree.find("squat");
   squat.handover = 0;
   squat.handoverBack = 1.0;
   squat.handoverBackFrom = "jump";
   squat.handoverBackSeconds = {1.0, 1.0};
-  const robot::SkillDef& jump = *fixture().tree.find("jump");
+  const ai::SkillSpec& jump = *fixture().tree.find("jump");
   Eigen::VectorXf arms = Eigen::VectorXf::Zero(robot::kActionSize);
   arms(13) = arms(18) = -0.1f;  // shoulder pitch, both arms
   std::atomic<int> jumpCalls{0};
@@ -630,11 +630,11 @@ TEST(SkillEnv, HandoverFromAChildStartsUnderItFromTheStandAndSwitchesOnceSettled
 TEST(SkillEnv, TheLiftedFootTouchingDownEndsTheEpisodeOnlyOnceTheLiftHasBeenAskedItsTime) {
   // the one-leg stand with its shift and lift taken out of the prior: the robot stands on both feet while the
   // amplitude ramps to 1 and the lift is asked
-  robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
+  ai::SkillSpec oneLeg = *fixture().tree.find("one_leg");
   oneLeg.handover = 0;
   oneLeg.handoverBack = 0;
   oneLeg.commands.amplitude = {1.0, 1.0};
-  oneLeg.curriculum = robot::CurriculumDef{};  // no lessons capping the amplitude
+  oneLeg.curriculum = ai::CurriculumDef{};  // no lessons capping the amplitude
   oneLeg.prior.poseOffset.fill(0.0);
   oneLeg.prior.lateOffset.fill(0.0);
   ASSERT_TRUE(oneLeg.prior.hasLate);
@@ -648,7 +648,7 @@ TEST(SkillEnv, TheLiftedFootTouchingDownEndsTheEpisodeOnlyOnceTheLiftHasBeenAske
   ASSERT_NEAR(firstAsked, 75, 1);
 
   const auto terminationTick = [&](double touchSeconds) {
-    robot::SkillDef s = oneLeg;
+    ai::SkillSpec s = oneLeg;
     s.termination.liftedFootTouchSeconds = touchSeconds;
     ai::SkillEnv env(fixture().model, s, fixture().tree.path, envOptions(1, 1, false));
     Eigen::MatrixXf obs;
@@ -666,16 +666,16 @@ TEST(SkillEnv, TheLiftedFootTouchingDownEndsTheEpisodeOnlyOnceTheLiftHasBeenAske
 }
 
 TEST(SkillEnv, AmplitudeZeroMakesThatShareOfTheAmplitudeDrawsZero) {
-  robot::SkillDef oneLeg = *fixture().tree.find("one_leg");
+  ai::SkillSpec oneLeg = *fixture().tree.find("one_leg");
   oneLeg.handover = 0;
   oneLeg.commands.amplitude = {0.5, 1.0};  // a draw is never 0 by itself
-  oneLeg.commands.amplitudeRate = 0.0;     // at once, so every draw shows in the observation
-  oneLeg.commands.resampleSeconds = 0.1;   // a draw every 10 ticks
+  oneLeg.draws.amplitudeRate = 0.0;     // at once, so every draw shows in the observation
+  oneLeg.draws.resampleSeconds = 0.1;   // a draw every 10 ticks
   neverEnds(&oneLeg);
   const int slot = robot::kObsCommand + 3;
   auto zeroShare = [&](double p) {
-    robot::SkillDef s = oneLeg;
-    s.commands.amplitudeZero = p;
+    ai::SkillSpec s = oneLeg;
+    s.draws.amplitudeZero = p;
     ai::SkillEnv env(fixture().model, s, fixture().tree.path, envOptions(4, 1, false));
     Eigen::MatrixXf obs;
     env.reset(5, &obs);
@@ -698,10 +698,10 @@ TEST(SkillEnv, AmplitudeZeroMakesThatShareOfTheAmplitudeDrawsZero) {
 }
 
 TEST(SkillEnv, ALineKeepingSkillSeesHowFarItHasDriftedFromTheLineItBeganOn) {
-  robot::SkillDef lined = *fixture().tree.find("walk");
+  ai::SkillSpec lined = *fixture().tree.find("walk");
   lined.commands.lineCommand = true;
   neverEnds(&lined);
-  robot::SkillDef plain = lined;
+  ai::SkillSpec plain = lined;
   plain.commands.lineCommand = false;
   constexpr int kAux0 = robot::kObsCommand + 4, kAux1 = robot::kObsCommand + 5;
   ai::SkillEnv withLine(fixture().model, lined, fixture().tree.path, envOptions(2, 1, false));
@@ -730,12 +730,12 @@ TEST(SkillEnv, ALineKeepingSkillSeesHowFarItHasDriftedFromTheLineItBeganOn) {
 }
 
 TEST(SkillEnv, AStairsSkillSeesTheFirstRiserAheadOfItsSpawn) {
-  robot::SkillDef stairs = *fixture().tree.find("walk");
+  ai::SkillSpec stairs = *fixture().tree.find("walk");
   stairs.commands.stepCommand = true;
-  stairs.terrain.kind = robot::TerrainDef::Kind::Stairs;
+  stairs.terrain.kind = ai::TerrainDef::Kind::Stairs;
   stairs.terrain.startX = 0.5;  // the first riser 0.5 m ahead of the spawn at x = 0 (facing +x within 0.2 rad)
   stairs.terrain.lessons = {0.10};
-  robot::SkillDef blind = stairs;
+  ai::SkillSpec blind = stairs;
   blind.commands.stepCommand = false;
   constexpr int kAux0 = robot::kObsCommand + 4, kAux1 = robot::kObsCommand + 5;
   ai::SkillEnv seeing(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
@@ -754,7 +754,7 @@ TEST(SkillEnv, AStairsSkillSeesTheFirstRiserAheadOfItsSpawn) {
 }
 
 TEST(SkillEnv, LineJitterStartsEachEpisodeWithinItsBoundsOffTheLine) {
-  robot::SkillDef lined = *fixture().tree.find("walk");
+  ai::SkillSpec lined = *fixture().tree.find("walk");
   lined.commands.lineCommand = true;
   lined.lineJitterHeading = 0.3;
   lined.lineJitterOffset = 0.2;
@@ -778,12 +778,12 @@ TEST(SkillEnv, LineSteerTurnsTheCommandBackTowardTheLine) {
   // each episode starts off its line (turned up to 0.3 rad, moved up to 0.2 m): after half a second the steered
   // yaw-rate command turns back toward it (its sign against the line error's, heading + 0.5 x offset), within
   // the skill's wz range; without line_steer the yaw-rate command is the draw's, whatever the line
-  robot::SkillDef lined = *fixture().tree.find("walk");
+  ai::SkillSpec lined = *fixture().tree.find("walk");
   lined.commands.lineCommand = true;
-  lined.commands.turnInPlace = false;
+  lined.draws.turnInPlace = false;
   lined.lineJitterHeading = 0.3;
   lined.lineJitterOffset = 0.2;
-  lined.lineSteer = 2.0;
+  lined.commands.lineSteer = 2.0;
   constexpr int kWz = robot::kObsCommand + 2, kAux0 = robot::kObsCommand + 4, kAux1 = robot::kObsCommand + 5;
   ai::SkillEnv env(fixture().model, lined, fixture().tree.path, envOptions(8, 1, false));
   Eigen::MatrixXf obs;
@@ -802,7 +802,7 @@ TEST(SkillEnv, LineSteerTurnsTheCommandBackTowardTheLine) {
     EXPECT_LT(wz * error(i), 0.0f) << "episode " << i << ": wz " << wz << ", error " << error(i);
   }
   EXPECT_GE(checked, 4);
-  lined.lineSteer = 0;
+  lined.commands.lineSteer = 0;
   ai::SkillEnv unsteered(fixture().model, lined, fixture().tree.path, envOptions(8, 1, false));
   unsteered.reset(4, &obs);
   for (int t = 0; t < 50; ++t) unsteered.step(Eigen::MatrixXf::Zero(robot::kActionSize, 8), &r);
@@ -824,7 +824,7 @@ TEST(HeadingHold, SquaringToPlusXTurnsBackAtTwiceTheYawWithinTheCap) {
 namespace {
 
 // The yaw-rate commands of n walk episodes (flat ground, spawned facing any way) after 20 ticks at zero action.
-std::vector<float> yawRateCommandsAfter20Ticks(const robot::SkillDef& walk, int n) {
+std::vector<float> yawRateCommandsAfter20Ticks(const ai::SkillSpec& walk, int n) {
   ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(n, 1, false));
   Eigen::MatrixXf obs;
   env.reset(5, &obs);
@@ -846,7 +846,7 @@ int atCap(const std::vector<float>& wz, float cap) {
 TEST(SkillEnv, HeadingSteerReplacesTheDrawnTurnWithTheHeadingHold) {
   // flat ground spawns face any way (U(-pi, pi)): nearly every episode is more than 0.1 rad off +X, so the steered
   // command sits at the heading hold's cap (0.2 rad/s) whatever was drawn; unsteered, the walk's draws are not
-  robot::SkillDef walk = *fixture().tree.find("walk");
+  ai::SkillSpec walk = *fixture().tree.find("walk");
   walk.headingSteer = 2.0;
   const float cap = float(robot::headingHoldLimit(walk.commands));
   const std::vector<float> steered = yawRateCommandsAfter20Ticks(walk, 8);
@@ -859,7 +859,7 @@ TEST(SkillEnv, HeadingSteerReplacesTheDrawnTurnWithTheHeadingHold) {
 TEST(SkillEnv, HeadingSteerShareSteersOnlyThatShareOfEpisodes) {
   // half the episodes steered: of 16 spawned facing any way, the steered ones sit at the heading hold's cap after
   // 20 ticks and (nearly all) the others keep their drawn turns; a binomial(16, 0.5) draw lands well inside [3, 13]
-  robot::SkillDef walk = *fixture().tree.find("walk");
+  ai::SkillSpec walk = *fixture().tree.find("walk");
   walk.headingSteer = 2.0;
   walk.headingSteerShare = 0.5;
   const int steered = atCap(yawRateCommandsAfter20Ticks(walk, 16), float(robot::headingHoldLimit(walk.commands)));
@@ -868,8 +868,8 @@ TEST(SkillEnv, HeadingSteerShareSteersOnlyThatShareOfEpisodes) {
 }
 
 TEST(StairsSpawn, PutsThePelvisOnATreadUpTheLandingOrDown) {
-  robot::TerrainDef t;  // the stairs skill's staircase: first riser at x = 1, 10 up with a 1 m landing, 9 down
-  t.kind = robot::TerrainDef::Kind::Stairs;
+  ai::TerrainDef t;  // the stairs skill's staircase: first riser at x = 1, 10 up with a 1 m landing, 9 down
+  t.kind = ai::TerrainDef::Kind::Stairs;
   t.steps = 10, t.stepDepth = 0.30, t.startX = 1.0, t.topDepth = 1.0;
   // 19 treads; u picks one with equal odds
   Eigen::Vector2d at = ai::stairsSpawn(t, 0.15, 0.0, 0.5);  // the first: 0.10 m past x = 1, 0.15 m up
@@ -889,10 +889,10 @@ TEST(StairsSpawn, PutsThePelvisOnATreadUpTheLandingOrDown) {
 }
 
 TEST(SkillEnv, SpawnAlongStartsEpisodesStandingOnTheTreadsUpAndDown) {
-  robot::SkillDef stairs = *fixture().tree.find("walk");
+  ai::SkillSpec stairs = *fixture().tree.find("walk");
   stairs.commands.stepCommand = true;
-  stairs.commands.zeroProbability = 1.0;  // standing: only the spawn is watched
-  stairs.terrain.kind = robot::TerrainDef::Kind::Stairs;
+  stairs.draws.zeroProbability = 1.0;  // standing: only the spawn is watched
+  stairs.terrain.kind = ai::TerrainDef::Kind::Stairs;
   stairs.terrain.lessons = {0.10};
   stairs.terrain.spawnAlong = 1.0;
   constexpr int kN = 8, kAux0 = robot::kObsCommand + 4;

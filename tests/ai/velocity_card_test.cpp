@@ -13,14 +13,14 @@ TEST(VelocityCard, ALeadInCardRunsTheDriverBeforeEachEpisode) {
   // the squat's height card, entered after the walk (no gait, zero output: it stands) drove 0.5 s and the robot
   // came to rest: the walk's policy runs at least 0.5 s in each of the 2 episodes and none of the lead-ins falls;
   // without the lead-in the walk's policy never runs and no lead-in figure is reported
-  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
-  robot::SkillDef walk = *tree.find("walk");
+  const ai::TrainingTree tree = ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  ai::SkillSpec walk = *tree.find("walk");
   walk.prior.kind = robot::PriorDef::Kind::None;
-  robot::SkillDef squat = *tree.find("squat");
+  ai::SkillSpec squat = *tree.find("squat");
   squat.handoverSeconds = {0.5, 0.5};
   ai::CardRun run{squat.card, 3, 1};
   run.card.episodes = 2;
-  run.card.leadIn = true;
+  run.card.driven()->leadIn = true;
   std::atomic<int> calls{0};
   const ai::PolicyFn zero = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { act->setZero(robot::kActionSize, obs.cols()); };
   const std::vector<ai::HandoverStage> leadIn{{&walk, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) {
@@ -43,13 +43,13 @@ TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
   // a tilt limit of 0.01 deg makes every episode a fall within its first ticks, where it stands (x = 0): in front
   // of a staircase that starts 1 m ahead, that is before the stairs; with the staircase 10 m behind (its end at
   // -10 + 9 x 0.3 + 1 + 9 x 0.3 = -3.6 m) it is beyond them
-  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
-  robot::SkillDef stairs = *tree.find("stairs");
+  const ai::TrainingTree tree = ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  ai::SkillSpec stairs = *tree.find("stairs");
   stairs.termination.maxTiltDegrees = 0.01;
   stairs.terrain.topDepth = 1.0;
   ai::CardRun run{stairs.card, 1, 1};
   run.card.episodes = 2;
-  run.card.episodeSeconds = 1.0;
+  run.card.driven()->episodeSeconds = 1.0;
   const ai::PolicyFn zero = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { act->setZero(robot::kActionSize, obs.cols()); };
   auto where = [&](double startX) {
     stairs.terrain.startX = startX;
@@ -68,15 +68,15 @@ TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
 TEST(VelocityCard, AStairsCardThatSteersSquaresTheRobotUpToTheStairs) {
   // the shipped stairs model, 4 episodes each turned up to 0.2 rad (11.5 deg) at the start: unsteered it keeps
   // roughly that heading (no turn is asked), steered with play's heading-hold law it faces the stairs by the top
-  const robot::SkillTree tree = robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
-  const robot::SkillDef stairs = *tree.find("stairs");
+  const ai::TrainingTree tree = ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const ai::SkillSpec stairs = *tree.find("stairs");
   const ai::LoadedPolicy model = ai::loadPolicyOnnx(fixtures::kSource + "/assets/skills/stairs.onnx");
   const ai::PolicyFn policy = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { model.act(obs, act); };
   ai::CardRun run{stairs.card, 1, 2};
   run.card.episodes = 4;
-  run.card.episodeSeconds = 14.0;  // past the top of the way down (x = 4.7 m at 0.5 m/s)
+  run.card.driven()->episodeSeconds = 14.0;  // past the top of the way down (x = 4.7 m at 0.5 m/s)
   auto heading = [&](double steer) {
-    run.card.steer = steer;
+    run.card.as<ai::StairsCard>()->steer = steer;
     double value = -1, progress = 0;
     for (const ai::CardFigure& f : ai::runVelocityCard(fixtures::robotModel(), stairs, policy, run).figures) {
       if (f.name.rfind("heading off the stairs", 0) == 0) value = f.value;

@@ -410,7 +410,7 @@ TEST(Session, ACrawlThatTrainedSteeredIsSteeredBackToItsLineInPlay) {
   for (double gain : {0.0, 0.5}) {
     robot::SkillDef crawl = *shipped.find("crawl");
     crawl.commands.wz = {-0.05, 0.05};
-    crawl.lineSteer = gain;
+    crawl.commands.lineSteer = gain;
     double observedWz = 0;
     robot::SkillSet skills;
     skills.skills.push_back({*shipped.find("walk"), [walk](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { walk->act(o, a); }});

@@ -2,6 +2,7 @@
 // the G1 lowers into it and holds it, with the pelvis at the height the skill tree documents for depth 1.
 #include <gtest/gtest.h>
 
+#include "ai/tree/training_tree.h"
 #include "engine/loop/clock.h"
 #include "engine/physics/physics_world.h"
 #include "robot/skill_runtime.h"
@@ -11,9 +12,9 @@
 
 namespace {
 
-const robot::SkillTree& shippedTree() {
-  static const robot::SkillTree tree =
-      robot::loadSkillTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+const ai::TrainingTree& shippedTree() {
+  static const ai::TrainingTree tree =
+      ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   return tree;
 }
 
@@ -24,7 +25,7 @@ void stepPd(const robot::PdCommand& pd, robot::Robot& r, engine::PhysicsWorld& w
 }
 
 // one control tick of the skill's prior alone (zero policy output): PD targets, then the physics substeps
-void stepPriorOnly(const robot::SkillDef& skill, const robot::PhaseClock& clock, const robot::SkillCommand& command,
+void stepPriorOnly(const ai::SkillSpec& skill, const robot::PhaseClock& clock, const robot::SkillCommand& command,
                    robot::Robot& r, engine::PhysicsWorld& world) {
   const std::array<float, robot::kActionSize> zero{};
   robot::PdCommand pd;
@@ -36,8 +37,8 @@ void stepPriorOnly(const robot::SkillDef& skill, const robot::PhaseClock& clock,
 
 TEST(PosePrior, FullSquatPoseHoldsThePelvisAtTheDocumentedHeight) {
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree& tree = shippedTree();
-  const robot::SkillDef& squat = *tree.find("squat");
+  const ai::TrainingTree& tree = shippedTree();
+  const ai::SkillSpec& squat = *tree.find("squat");
   engine::PhysicsWorld world;
   world.addGround(1.0);
   robot::Robot r(model, world, 0, 0, 0);
@@ -60,8 +61,8 @@ TEST(PosePrior, FullSquatPoseHoldsThePelvisAtTheDocumentedHeight) {
 TEST(PosePrior, OneLegPoseLiftsTheRightSoleAboveTheCardHeight) {
   // kinematics only (no physics): with the pelvis where it stands, the folded right leg's sole is >= 0.1 m up
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree& tree = shippedTree();
-  const robot::SkillDef& oneLeg = *tree.find("one_leg");
+  const ai::TrainingTree& tree = shippedTree();
+  const ai::SkillSpec& oneLeg = *tree.find("one_leg");
   engine::PhysicsWorld world;  // no ground: the robot is only posed, never stepped
   robot::Robot r(model, world, 0, 0, 0);
   const std::array<float, robot::kActionSize> zero{};
@@ -82,15 +83,15 @@ TEST(PosePrior, OneLegFirstStageCarriesTheWeightOnTheLeftFootAndHolds) {
   // ankle) and the right foot carries little; unlike the first shift tried (0.13 rad, which carried the robot on
   // over the left foot within 1.7 s), the pose then holds still on both feet: the lift is the policy's to balance
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree& tree = shippedTree();
-  const robot::SkillDef& oneLeg = *tree.find("one_leg");
+  const ai::TrainingTree& tree = shippedTree();
+  const ai::SkillSpec& oneLeg = *tree.find("one_leg");
   engine::PhysicsWorld world;
   world.addGround(1.0);
   robot::Robot r(model, world, 0, 0, 0);
   robot::SkillCommand command;
   auto run = [&](int ticks) {
     for (int tick = 0; tick < ticks; ++tick) {
-      command.amplitude = std::min(0.5, command.amplitude + oneLeg.commands.amplitudeRate * engine::kTickSeconds);
+      command.amplitude = std::min(0.5, command.amplitude + oneLeg.draws.amplitudeRate * engine::kTickSeconds);
       stepPriorOnly(oneLeg, robot::PhaseClock{}, command, r, world);
     }
   };
@@ -113,8 +114,8 @@ TEST(PosePrior, JumpKeyPosesAloneJumpOnceAndLandUprightWhateverTheWaitBefore) {
   // card's bar), and lands without tilting past 0.5 rad (the card's fall: 30 deg). Later jumps are the policy's:
   // the prior alone falls at the second to fourth landing on some waits (jump.train.md, session 15)
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree& tree = shippedTree();
-  const robot::SkillDef& jump = *tree.find("jump");
+  const ai::TrainingTree& tree = shippedTree();
+  const ai::SkillSpec& jump = *tree.find("jump");
   for (int wait : {0, 50, 100, 200, 400}) {
     engine::PhysicsWorld world;
     world.addGround(1.0);
@@ -152,8 +153,8 @@ TEST(PosePrior, KickSwingSweepsTheFootThroughTheBall) {
   // centre at the skill's ball offset, radius 0.11 m) while the sole is still below the ball's top, and the swing
   // carries on past the ball's centre
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree& tree = shippedTree();
-  const robot::SkillDef& kick = *tree.find("kick");
+  const ai::TrainingTree& tree = shippedTree();
+  const ai::SkillSpec& kick = *tree.find("kick");
   engine::PhysicsWorld world;
   robot::Robot r(model, world, 0, 0, 0);
   const std::array<float, robot::kActionSize> zero{};
@@ -176,8 +177,8 @@ TEST(PosePrior, ProneKeyframesAloneLieFaceDownWithinThreeSecondsWithoutAFall) {
   // physics, zero policy output, the prone skill's gains: the keyframes alone take the G1 from standing to lying
   // face down (the card's torso height and pitch) before 3 s, and the skill's termination never calls it a fall
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree& tree = shippedTree();
-  const robot::SkillDef& prone = *tree.find("prone");
+  const ai::TrainingTree& tree = shippedTree();
+  const ai::SkillSpec& prone = *tree.find("prone");
   engine::PhysicsWorld world;
   world.addGround(1.0);
   robot::Robot r(model, world, 0, 0, 0);
@@ -190,7 +191,7 @@ TEST(PosePrior, ProneKeyframesAloneLieFaceDownWithinThreeSecondsWithoutAFall) {
     const robot::Sensors s = r.sense(world);
     pitch = robot::forwardPitch(s) * 180.0 / M_PI;
     torsoHeight = r.linkPose(world, model.torso).translation().z();
-    const bool lying = torsoHeight < prone.card.proneHeight && pitch > prone.card.pronePitch.lo && pitch < prone.card.pronePitch.hi;
+    const bool lying = torsoHeight < prone.card.as<ai::ProneCard>()->height && pitch > prone.card.as<ai::ProneCard>()->pitch.lo && pitch < prone.card.as<ai::ProneCard>()->pitch.hi;
     if (lying && lyingTick < 0) lyingTick = tick;
     if (robot::hasFallen(prone.termination, s) && fallTick < 0) fallTick = tick, std::printf("fell at %d: pitch %.0f side %.0f z %.2f\n", tick, pitch, robot::sideLean(s) * 57.3, s.basePosition.z());
   }
@@ -199,7 +200,7 @@ TEST(PosePrior, ProneKeyframesAloneLieFaceDownWithinThreeSecondsWithoutAFall) {
   EXPECT_GT(lyingTick, 0);
   EXPECT_LE(lyingTick, 300);
   EXPECT_EQ(fallTick, -1);
-  EXPECT_LT(torsoHeight, prone.card.proneHeight);
+  EXPECT_LT(torsoHeight, prone.card.as<ai::ProneCard>()->height);
 }
 
 TEST(PosePrior, StandUpKeyframesAloneRaiseTheProneRobotWithinFiveSecondsAndItStaysUp) {
@@ -209,9 +210,9 @@ TEST(PosePrior, StandUpKeyframesAloneRaiseTheProneRobotWithinFiveSecondsAndItSta
   // 4.64 s; 4.99 s before session 9 sped up the rise from the squat), never roll it onto a side or the back, and it
   // is still standing 2 s later.
   const robot::RobotModel& model = fixtures::robotModel();
-  const robot::SkillTree& tree = shippedTree();
-  const robot::SkillDef& prone = *tree.find("prone");
-  const robot::SkillDef& standup = *tree.find("standup");
+  const ai::TrainingTree& tree = shippedTree();
+  const ai::SkillSpec& prone = *tree.find("prone");
+  const ai::SkillSpec& standup = *tree.find("standup");
   ASSERT_EQ(prone.up, "standup");
   engine::PhysicsWorld world;
   world.addGround(1.0);
