@@ -61,8 +61,8 @@ MarioVariant drawMarioVariant(uint64_t seed, int questionBoxes) {
   // k boxes at least kBoxGap apart in [kBoxesFrom, kBoxesTo]: k points in the span less the gaps, sorted, then
   // each spread out by the gaps before it
   const int k = std::max(0, questionBoxes);
-  const double free = R::kBoxesTo - R::kBoxesFrom - std::max(0, k - 1) * R::kBoxGap;
-  for (int i = 0; i < k; ++i) v.boxesPastTunnel.push_back(draw(rng, 0.0, free));
+  const double room = std::max(0.0, R::kBoxesTo - R::kBoxesFrom - std::max(0, k - 1) * R::kBoxGap);
+  for (int i = 0; i < k; ++i) v.boxesPastTunnel.push_back(draw(rng, 0.0, room));
   std::sort(v.boxesPastTunnel.begin(), v.boxesPastTunnel.end());
   for (int i = 0; i < k; ++i) v.boxesPastTunnel[size_t(i)] = mm(v.boxesPastTunnel[size_t(i)] + R::kBoxesFrom + i * R::kBoxGap);
   const int side = std::min(2, int(unit(rng) * 3));
@@ -77,6 +77,12 @@ std::string marioVariantToml(const Level& base, const MarioVariant& v) {
       base.questionBoxes.empty())
     throw engine::Error(base.path + ": a variant needs a Mario-style course: a game level with one ghost, one ball, "
                                     "one goal and at least one question box (levels/mario)");
+  using R = VariantRanges;
+  const int fit = 1 + int((R::kBoxesTo - R::kBoxesFrom) / R::kBoxGap);
+  if (int(base.questionBoxes.size()) > fit)
+    throw engine::Error(base.path + ": a variant has room for " + std::to_string(fit) + " question boxes " +
+                        std::to_string(R::kBoxGap).substr(0, 3) + " m apart past the tunnel, the level has " +
+                        std::to_string(base.questionBoxes.size()));
   if (v.boxesPastTunnel.size() != base.questionBoxes.size())
     throw engine::Error(base.path + ": the variant was drawn for " + std::to_string(v.boxesPastTunnel.size()) +
                         " question boxes, the level has " + std::to_string(base.questionBoxes.size()));
