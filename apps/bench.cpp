@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
@@ -16,6 +17,7 @@
 #include "engine/render/renderer.h"
 #include "game/play.h"
 #include "levels/level.h"
+#include "levels/variant.h"
 #include "robot/robot.h"
 
 namespace apps {
@@ -35,13 +37,66 @@ double timeStanding(const robot::RobotModel& model, int ticks) {
   return since(t);
 }
 
+struct AutopilotRun {
+  const levels::Level* level = nullptr;
+  uint64_t seed = 1;
+  std::string label;  // "seed 3", "variant 3"
+};
+struct Totals {
+  int wins = 0, falls = 0;
+};
+
+// plays each run by autopilot until it is won or lost, two at a time; a line on stderr as each one ends, then a
+// line per run (outcome, time, falls by skill) and the totals on stdout, in the runs' order
+Totals playByAutopilot(const std::vector<AutopilotRun>& runs, const robot::RobotModel& model, const robot::SkillSet& skills) {
+  const int n = int(runs.size());
+  std::vector<game::PlayResult> results(runs.size());
+  std::atomic<int> next{0}, done{0};
+  std::mutex progress;
+  const auto start = Clock::now();
+  auto worker = [&] {
+    for (int i; (i = next++) < n;) {
+      const levels::Level& level = *runs[size_t(i)].level;
+      game::PlayOptions ap;
+      ap.seed = runs[size_t(i)].seed;
+      ap.skills = &skills;
+      ap.autopilot = true;
+      ap.hashEvery = 0;
+      ap.ticks = engine::secondsToTicks(level.timeLimit > 0 ? level.timeLimit + 0.5 : 600.0);  // until it ends
+      results[size_t(i)] = game::play(level, model, ap);
+      const std::lock_guard<std::mutex> lock(progress);
+      std::fprintf(stderr, "bench: %d of %d played (%s: %s, %.0f s wall so far)\n", ++done, n, runs[size_t(i)].label.c_str(),
+                   results[size_t(i)].outcome == game::Outcome::Won ? "won" : "lost", since(start));
+    }
+  };
+  std::thread a(worker), b(worker);
+  a.join();
+  b.join();
+  Totals t;
+  std::map<std::string, int> bySkill;
+  for (int i = 0; i < n; ++i) {
+    const game::PlayResult& p = results[size_t(i)];
+    const bool won = p.outcome == game::Outcome::Won;
+    t.wins += won;
+    t.falls += p.telemetry.falls;
+    for (const auto& [skill, k] : p.telemetry.fallsBySkill) bySkill[skill] += k;
+    std::printf("  autopilot %-12s %-4s %-52s %7.2f s  falls %d%s%s\n", runs[size_t(i)].label.c_str(), won ? "won" : "lost",
+                p.outcomeReason.c_str(), double(p.ticks) * engine::kTickSeconds, p.telemetry.falls,
+                p.telemetry.falls ? ": " : "", game::fallsBySkillText(p.telemetry.fallsBySkill).c_str());
+  }
+  std::printf("  total: won %d of %d, %d falls (%.2f a run)%s%s\n", t.wins, n, t.falls, n ? double(t.falls) / n : 0.0,
+              t.falls ? "; by skill: " : "", game::fallsBySkillText(bySkill).c_str());
+  return t;
+}
+
 }  // namespace
 
 int runBench(const BenchOptions& o) {
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   // --autopilot's level and skills, loaded before the timings so that a missing file stops it at once
-  const levels::Level mario = o.autopilotSeeds > 0 ? levels::loadLevel("levels/mario") : levels::Level{};
-  const robot::SkillSet skills = o.autopilotSeeds > 0 ? loadSkills(model) : robot::SkillSet{};
+  const bool autopilot = o.autopilotSeeds > 0 || o.variants > 0;
+  const levels::Level mario = autopilot ? levels::loadLevel("levels/mario") : levels::Level{};
+  const robot::SkillSet skills = autopilot ? loadSkills(model) : robot::SkillSet{};
   std::ostringstream csv;
   csv << "metric,value,unit\n";
   auto report = [&](const char* metric, double value, const char* unit, const char* note) {
@@ -100,39 +155,28 @@ int runBench(const BenchOptions& o) {
   const game::PlayResult r = game::play(flat, model, play);
   report("play_realtime_factor", o.seconds / r.wallSeconds, "x", "(target >= 20; headless, no frames)");
 
-  // levels/mario by autopilot (issue 6's measure: wins out of 10 seeds), two seeds at a time
+  // levels/mario by autopilot at seeds 1..N (wins out of 10 seeds is the course's measure)
   if (o.autopilotSeeds > 0) {
-    std::vector<game::PlayResult> results(size_t(o.autopilotSeeds));
-    std::atomic<int> next{0};
-    auto worker = [&] {
-      for (int i; (i = next++) < o.autopilotSeeds;) {
-        game::PlayOptions ap;
-        ap.seed = uint64_t(i + 1);
-        ap.skills = &skills;
-        ap.autopilot = true;
-        ap.hashEvery = 0;
-        ap.ticks = engine::secondsToTicks(mario.timeLimit > 0 ? mario.timeLimit + 0.5 : 600.0);  // until it ends
-        results[size_t(i)] = game::play(mario, model, ap);
-      }
-    };
-    std::thread a(worker), b(worker);
-    a.join();
-    b.join();
-    int wins = 0, falls = 0;
-    std::map<std::string, int> bySkill;
-    for (int i = 0; i < o.autopilotSeeds; ++i) {
-      const game::PlayResult& p = results[size_t(i)];
-      const bool won = p.outcome == game::Outcome::Won;
-      wins += won;
-      falls += p.telemetry.falls;
-      for (const auto& [skill, n] : p.telemetry.fallsBySkill) bySkill[skill] += n;
-      std::printf("  autopilot seed %-3d %-40s %7.2f s  falls %d%s%s\n", i + 1, p.outcomeReason.c_str(),
-                  double(p.ticks) * engine::kTickSeconds, p.telemetry.falls, p.telemetry.falls ? ": " : "",
-                  game::fallsBySkillText(p.telemetry.fallsBySkill).c_str());
+    std::vector<AutopilotRun> runs;
+    for (int i = 1; i <= o.autopilotSeeds; ++i) runs.push_back({&mario, uint64_t(i), "seed " + std::to_string(i)});
+    const Totals t = playByAutopilot(runs, model, skills);
+    report("autopilot_mario_wins", t.wins, "seeds", ("of " + std::to_string(o.autopilotSeeds)).c_str());
+    report("autopilot_mario_falls", t.falls, "falls", "(over all the seeds)");
+  }
+  // variants 1..N of levels/mario (levels/variant.h), variant N played at seed N
+  if (o.variants > 0) {
+    std::vector<levels::Level> variants;
+    variants.reserve(size_t(o.variants));
+    std::vector<AutopilotRun> runs;
+    for (int i = 1; i <= o.variants; ++i) {
+      const levels::MarioVariant v = levels::drawMarioVariant(uint64_t(i), int(mario.questionBoxes.size()));
+      variants.push_back(levels::parseLevel(levels::marioVariantToml(mario, v), "variant " + std::to_string(i) + " of " + mario.path));
+      std::printf("  variant %-3d %s\n", i, levels::describeVariant(v).c_str());
     }
-    if (falls > 0) std::printf("  falls by skill over all the seeds: %s\n", game::fallsBySkillText(bySkill).c_str());
-    report("autopilot_mario_wins", wins, "seeds", ("of " + std::to_string(o.autopilotSeeds) + " (issue 6's target: 9 of 10)").c_str());
-    report("autopilot_mario_falls", falls, "falls", "(over all the seeds)");
+    for (int i = 1; i <= o.variants; ++i) runs.push_back({&variants[size_t(i - 1)], uint64_t(i), "variant " + std::to_string(i)});
+    const Totals t = playByAutopilot(runs, model, skills);
+    report("autopilot_variants_wins", t.wins, "variants", ("of " + std::to_string(o.variants)).c_str());
+    report("autopilot_variants_falls", t.falls, "falls", "(over all the variants)");
   }
 
   if (!o.csv.empty()) engine::writeFileAtomic(o.csv, csv.str());

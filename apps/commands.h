@@ -19,6 +19,7 @@ struct BenchOptions {
   int frames = 300;       ///< frames per rendering measurement
   std::string csv;        ///< optional CSV output path
   int autopilotSeeds = 0; ///< also play levels/mario by autopilot at seeds 1..N (wins, times, falls)
+  int variants = 0;       ///< also play variants 1..N of levels/mario by autopilot (levels/variant.h), variant N at seed N
 };
 
 /// Runs the benchmarks and prints a table; returns the exit code.

@@ -1,4 +1,4 @@
-// main.cpp — the treelearn command line: play, replay, bench, train, eval, ship, tree. Parses arguments with
+// main.cpp — the treelearn command line: play, replay, variant, bench, train, eval, ship, tree. Parses arguments with
 // CLI11, turns engine::Error into "error: ..." and exit code 2.
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
@@ -19,6 +19,7 @@
 #include "engine/render/frame_output.h"
 #include "game/play.h"
 #include "levels/level.h"
+#include "levels/variant.h"
 #include "robot/robot_model.h"
 #include "robot/skill_tree.h"
 
@@ -291,6 +292,24 @@ int cmdReplay(const ReplayArgs& a) {
   return 0;
 }
 
+struct VariantArgs {
+  std::string level, out;
+  uint64_t seed = 1;
+};
+
+// writes seed's variant of a Mario-style level to OUT/level.toml (checked to load first; written atomically)
+int cmdVariant(const VariantArgs& a) {
+  const levels::Level base = levels::loadLevel(a.level);
+  const levels::MarioVariant v = levels::drawMarioVariant(a.seed, int(base.questionBoxes.size()));
+  const std::string text = levels::marioVariantToml(base, v);
+  engine::makeDirectories(a.out);
+  const std::string path = (std::filesystem::path(a.out) / "level.toml").string();
+  engine::writeFileAtomic(path, text);
+  std::printf("variant    %s (seed %llu of %s): %s\n", path.c_str(), static_cast<unsigned long long>(a.seed),
+              base.path.c_str(), levels::describeVariant(v).c_str());
+  return 0;
+}
+
 void addOutputOptions(CLI::App* cmd, OutputOptions* out) {
   cmd->add_option("--frames", out->framesDir, "Write PNG frames (640x360) into this folder");
   cmd->add_option("--video", out->videoPath, "Write an MP4 video (needs ffmpeg)");
@@ -332,12 +351,22 @@ int main(int argc, char** argv) {
   replayCmd->add_option("--keys-out", replay.keysOut, "Also write the replay's key events as a key script, with its seed line (e.g. an autopilot run's keys)");
   addOutputOptions(replayCmd, &replay.out);
 
+  VariantArgs variant;
+  CLI::App* variantCmd = app.add_subcommand(
+      "variant", "Write a variant of a Mario-style course drawn from a seed (stairs, tunnel, question boxes, ball, ghost "
+                 "speed; ranges in levels/variant.h) to OUT/level.toml");
+  variantCmd->add_option("level", variant.level, "The course it varies: a level folder or .toml file (levels/mario)")->required();
+  variantCmd->add_option("--seed", variant.seed, "Seed of the variant (the same seed writes the same file)")->required();
+  variantCmd->add_option("--out", variant.out, "Folder to write level.toml into (created if missing)")->required();
+
   apps::BenchOptions bench;
   CLI::App* benchCmd = app.add_subcommand("bench", "Measure physics, rendering and play throughput");
   benchCmd->add_option("--seconds", bench.seconds, "Simulated seconds per physics measurement")->check(CLI::Range(0.1, 3600.0));
   benchCmd->add_option("--frames", bench.frames, "Frames per rendering measurement")->check(CLI::Range(1, 100000));
   benchCmd->add_option("--csv", bench.csv, "Also write the results as CSV");
   benchCmd->add_option("--autopilot", bench.autopilotSeeds, "Also play levels/mario by autopilot at seeds 1..N (two at a time) and report wins, winning times and falls")
+      ->check(CLI::Range(1, 1000));
+  benchCmd->add_option("--variants", bench.variants, "Also play variants 1..N of levels/mario (treelearn variant) by autopilot (two at a time) and report each one's outcome, time and falls by skill, and the totals")
       ->check(CLI::Range(1, 1000));
 
   apps::TrainOptions train;
@@ -398,6 +427,7 @@ int main(int argc, char** argv) {
     play.seedGiven = playCmd->count("--seed") > 0;
     if (*playCmd) return cmdPlay(play);
     if (*replayCmd) return cmdReplay(replay);
+    if (*variantCmd) return cmdVariant(variant);
     if (*benchCmd) return apps::runBench(bench);
     if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
     if (*shipCmd) return apps::runShip(ship);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "engine/loop/clock.h"
 
@@ -67,6 +68,7 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
   for (double cp : rules_.checkpoints)
     if (pelvis.x() >= cp && cp > checkpointX_) {
       checkpointX_ = cp;
+      fallsHere_.clear();  // a new checkpoint: its own count of falls
       log(tick, CourseEventKind::Checkpoint, "checkpoint at x = " + std::to_string(cp).substr(0, 5));
     }
 
@@ -174,6 +176,21 @@ bool Course::onFall(int64_t tick) {
     return false;
   }
   score_ -= rules_.fallPenalty;
+  // a respawn loop: the falls back to this checkpoint, the oldest dropped once kRespawnLoopFalls are kept
+  fallsHere_.push_back(tick);
+  if (int(fallsHere_.size()) > kRespawnLoopFalls) fallsHere_.erase(fallsHere_.begin());
+  if (int(fallsHere_.size()) == kRespawnLoopFalls &&
+      double(tick - fallsHere_.front()) * engine::kTickSeconds <= kRespawnLoopSeconds) {
+    char what[160];
+    std::snprintf(what, sizeof what, "fell %d times within %.1f s back to x = %.2f, -%d: a respawn loop", kRespawnLoopFalls,
+                  double(tick - fallsHere_.front()) * engine::kTickSeconds, checkpointX_, rules_.fallPenalty);
+    log(tick, CourseEventKind::RespawnLoop, what);
+    char reason[120];
+    std::snprintf(reason, sizeof reason, "a respawn loop (%d falls within %.0f s back to the checkpoint at x = %.2f)",
+                  kRespawnLoopFalls, kRespawnLoopSeconds, checkpointX_);
+    finish(tick, Outcome::Lost, reason);
+    return false;
+  }
   log(tick, CourseEventKind::Fell, "fell: back to x = " + std::to_string(checkpointX_).substr(0, 5) + ", -" + std::to_string(rules_.fallPenalty));
   // a ghost that woke beyond the checkpoint goes back to sleep: it wakes again (behind, at its first speed) when the
   // robot passes its appear_x again (before, a respawn at the start put the robot under the chasing ghost)

@@ -28,7 +28,17 @@ struct BodyPoint {
 enum class Outcome { Playing, Won, Lost };
 
 /// What kind of thing happened on the course.
-enum class CourseEventKind { Won, Lost, Checkpoint, BoxHit, Collected, GhostAppears, GhostGivesUp, Fell };
+/// RespawnLoop: the robot fell kRespawnLoopFalls times within kRespawnLoopSeconds back to one checkpoint, and the run
+/// is lost (a Lost event follows it).
+enum class CourseEventKind { Won, Lost, Checkpoint, BoxHit, Collected, GhostAppears, GhostGivesUp, Fell, RespawnLoop };
+
+/// A respawn loop ends the run: the kRespawnLoopFalls-th fall back to the same checkpoint within kRespawnLoopSeconds
+/// of the first of them loses the level instead of putting the robot back once more. A robot that cannot stand
+/// where it is put back falls again within a second or so (levels/mario, with a checkpoint under the tunnel's exit,
+/// fell there every 0.55 s, 390 times in one run); a real retry of a stage (walk up to it, try it) takes longer
+/// than kRespawnLoopSeconds / kRespawnLoopFalls = 2 s per fall.
+constexpr int kRespawnLoopFalls = 5;
+constexpr double kRespawnLoopSeconds = 10.0;
 
 /// Something that happened: its kind (for code that reacts to it) and its text (for the summary and the log).
 struct CourseEvent {
@@ -47,7 +57,8 @@ class Course {
               engine::PhysicsWorld& physics, engine::PlaneWorld& plane);
 
   /// The robot fell at `tick`: under "respawn" the penalty is taken and true is returned (the Session puts the
-  /// robot back at respawnX()); under "lose" the level is lost and false is returned.
+  /// robot back at respawnX()), unless it is a respawn loop (kRespawnLoopFalls), which loses the level; under
+  /// "lose" the level is lost. Both return false.
   bool onFall(int64_t tick);
   double respawnX() const { return checkpointX_; }
 
@@ -103,6 +114,7 @@ class Course {
   std::vector<Ball> balls_;
   std::vector<levels::GoalDef> goals_;
   double checkpointX_ = 0;
+  std::vector<int64_t> fallsHere_;  // ticks of the falls back to checkpointX_ (the latest kRespawnLoopFalls)
   Outcome outcome_ = Outcome::Playing;
   std::string reason_;
   int score_ = 0, coins_ = 0, gifts_ = 0, falls_ = 0;

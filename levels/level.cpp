@@ -2,6 +2,7 @@
 #include "levels/level.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 #include <toml++/toml.h>
@@ -327,6 +328,34 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
   for (const BallSpawnDef& b : level.balls)
     inside(Eigen::Vector3d(b.position.x(), b.position.y(), b.radius), Eigen::Vector3d::Constant(b.radius), b.line, "ball");
   for (const GoalDef& g : level.goals) inside(g.centre, 0.5 * g.size, g.line, "goal");
+
+  // every checkpoint needs room to stand (kStandHeight, kStandHalfFootprint): the robot is put back there
+  if (!level.rules.checkpoints.empty()) {
+    const int line = r.line(*root.get("rules")->as_table()->get("checkpoints"));
+    for (double x : level.rules.checkpoints) {
+      const Eigen::Vector3d c(x, 0.0, 0.5 * kStandHeight);
+      const Eigen::Vector3d half(kStandHalfFootprint, kStandHalfFootprint, 0.5 * kStandHeight);
+      auto blocked = [&](const Eigen::Vector3d& centre, const Eigen::Vector3d& halfSize, double yaw) {
+        // a yawed box by its axis-aligned bounds
+        const double cy = std::abs(std::cos(yaw)), sy = std::abs(std::sin(yaw));
+        const Eigen::Vector3d h(cy * halfSize.x() + sy * halfSize.y(), sy * halfSize.x() + cy * halfSize.y(), halfSize.z());
+        return ((c - centre).cwiseAbs() - half - h).maxCoeff() < -1e-9;
+      };
+      auto refuse = [&](const std::string& what, int whatLine) {
+        char xs[32];
+        std::snprintf(xs, sizeof xs, "%g", x);
+        char room[96];
+        std::snprintf(room, sizeof room, "within %.2f m of it and lower than %.2f m", kStandHalfFootprint, kStandHeight);
+        throw Error(located(fileName, line, std::string("checkpoint at x = ") + xs + " has no room to stand: " + what +
+                                                " (defined on line " + std::to_string(whatLine) + ") is " + room +
+                                                ", where a fall puts the robot back upright on both feet"));
+      };
+      for (const BoxDef& b : level.boxes)
+        if (blocked(b.centre, 0.5 * b.size, b.yaw)) refuse(b.name.empty() ? "a box" : "'" + b.name + "'", b.line);
+      for (const QuestionBoxDef& q : level.questionBoxes)
+        if (blocked(q.centre, 0.5 * q.size, 0.0)) refuse("a question box", q.line);
+    }
+  }
   return level;
 }
 

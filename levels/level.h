@@ -100,6 +100,16 @@ std::vector<BoxDef> expandStairs(const StairsDef& stairs);
 /// X where the staircase ends (the back edge of its last tread).
 double stairsEndX(const StairsDef& stairs);
 
+/// The room a respawn needs. A game level puts a fallen robot back upright in its default pose with both feet on
+/// the ground (z = 0) at a checkpoint's x on the course's centre line (y = 0), so nothing solid may be there: the
+/// G1 stands 1.32 m tall and 0.45 m across the shoulders (Unitree's figures; the model's head top is at 1.28 m
+/// standing and up to 1.33 m in its stride), its feet about 0.2 m apart and 0.2 m long. A checkpoint with a box,
+/// a wall, a step, a tunnel's roof or a question box within kStandHalfFootprint of it (along x and y) and lower than
+/// kStandHeight is refused when the level loads: a robot put back under a ceiling's edge or into a step falls again
+/// at once, for as long as the run lasts.
+constexpr double kStandHeight = 1.35;        ///< [m] the robot's 1.32 m and a margin
+constexpr double kStandHalfFootprint = 0.3;  ///< [m] half its 0.45 m width and a margin, also along x (a lean, a step)
+
 /// A loaded level.
 struct Level {
   std::string name, description;
