@@ -387,7 +387,7 @@ int main(int argc, char** argv) {
   trainCmd->add_flag("--freeze-normalizer", train.freezeNormalizer, "Keep the observation normaliser's statistics as loaded (fine-tuning on new states without moving the policy's inputs)");
   trainCmd->add_flag("--zero-output", train.zeroOutput, "Branch init: zero the actor's output layer, so the branch starts as its own prior alone (hidden layers, critic, normaliser and log-std stay the parent's)");
   trainCmd->add_option("--init-from", train.initFrom, "Start from this policy file (e.g. assets/skills/walk.policy.bin) to fine-tune");
-  trainCmd->add_option("--learning-rate", train.learningRate, "Initial learning rate instead of [ppo]'s (e.g. 1e-4 to fine-tune with --init-from)");
+  trainCmd->add_option("--learning-rate", train.learningRate, "Initial learning rate instead of [ppo]'s learning_rate (a branch from its parent: branch_learning_rate, 3e-5 by default; e.g. 1e-4 to fine-tune with --init-from)");
   trainCmd->add_option("--models-dir", train.modelsDir, "Folder the other skills' models are read from: the parent's policy, handover and card drivers (default: the tree file's folder, assets/skills); nothing is written there");
   trainCmd->add_option("--export-from", train.exportFrom, "With --export-only: best (best.bin) or last (checkpoint.bin)")
       ->check(CLI::IsMember({"best", "last"}));

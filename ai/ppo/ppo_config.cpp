@@ -28,6 +28,7 @@ void visitFields(Config& c, F&& f) {
   f("reward_scale", c.rewardScale);
   f("learning_rate", c.learningRate);
   f("learning_rate_final", c.learningRateFinal);
+  f("branch_learning_rate", c.branchLearningRate);
   f("epsilon", c.epsilon);
   f("epsilon_final", c.epsilonFinal);
   f("beta", c.beta);
@@ -129,7 +130,8 @@ void validatePpoConfig(const PpoConfig& c, const std::string& what) {
   require(c.gamma > 0 && c.gamma <= 1, "gamma must be in (0, 1]");
   require(c.lambda >= 0 && c.lambda <= 1, "lambda must be in [0, 1]");
   require(c.rewardScale > 0 && std::isfinite(c.rewardScale), "reward_scale must be positive");
-  require(c.learningRate >= 0 && c.learningRateFinal >= 0, "learning rates must be non-negative");
+  require(c.learningRate >= 0 && c.learningRateFinal >= 0 && c.branchLearningRate >= 0,
+          "learning rates must be non-negative");
   require(c.desiredKl > 0, "desired_kl must be positive");
   require(c.adaptiveLrMin > 0 && c.adaptiveLrMin <= c.adaptiveLrMax, "adaptive_lr_min must be positive and at most adaptive_lr_max");
   require(c.epsilon > 0 && c.epsilonFinal > 0, "epsilon and epsilon_final must be positive");

@@ -35,6 +35,11 @@ struct PpoConfig {
   double learningRate = 3e-4;
   /// Learning rate at the end of the run. 0 (ML-Agents: 1e-10).
   double learningRateFinal = 0.0;
+  /// The first learning rate of a branch trained from its parent's weights (ai::trainSkill), in place of
+  /// learning_rate. 3e-5: from the walk's weights the squat's first update at 3e-4 has approx KL 1.44 and clips 84 %
+  /// of its samples, overwriting much of what the branch inherits; at 3e-5 its KL is 0.014, near desired_kl
+  /// (docs/experiments.md). The adaptive rate moves on from it; the linear schedule decays from it.
+  double branchLearningRate = 3e-5;
   /// PPO clip range epsilon (Table 2). 0.2.
   double epsilon = 0.2;
   /// Clip range at the end of the run. 0.1 (ML-Agents' epsilon schedule floor).

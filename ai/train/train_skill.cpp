@@ -59,9 +59,14 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   // [ppo], then the skill's own [skill.NAME.ppo] overrides (not inherited by its branches)
   PpoConfig config = parsePpoConfig(treeText, l.tree.path, "ppo");
   config = parsePpoConfig(treeText, l.tree.path, "skill." + skill.name + ".ppo", config);
+  // a branch from its parent's weights starts at [ppo] branch_learning_rate, so that its first updates adapt the
+  // inherited policy rather than overwrite it (a resumed branch run keeps the config it began with)
+  const bool fromParent = !skill.parent.empty() && o.initFrom.empty();
   if (!std::isnan(o.learningRate)) {
     if (!(o.learningRate > 0 && o.learningRate < 1)) throw engine::Error("--learning-rate must be in (0, 1)");
     config.learningRate = o.learningRate;  // decays linearly to the config's final rate, as usual
+  } else if (fromParent) {
+    config.learningRate = config.branchLearningRate;
   }
   if (o.zeroOutput && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
     throw engine::Error("--zero-output is a branch's initialisation from its parent: not with --resume, --init-from or for the root skill");
@@ -192,8 +197,9 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     if (o.zeroOutput) zeroActorOutput(&state);
     if (!std::isnan(o.initLogStd)) state.logStd.setConstant(float(o.initLogStd));
     trainer.initialiseFrom(state, float(o.reinflateLogStd));
-    say(log, "initialised from parent '%s' (%s)%s\n", parent->name.c_str(), parentPolicy.c_str(),
-                o.zeroOutput ? ", actor output layer zeroed: the branch starts as its prior alone" : "");
+    say(log, "initialised from parent '%s' (%s)%s; first learning rate %.2g%s\n", parent->name.c_str(),
+        parentPolicy.c_str(), o.zeroOutput ? ", actor output layer zeroed: the branch starts as its prior alone" : "",
+        config.learningRate, std::isnan(o.learningRate) ? " ([ppo] branch_learning_rate)" : " (--learning-rate)");
   }
   say(log, "training %s: %lld steps, %d envs on %d threads, seed %llu, run folder %s\n", skill.name.c_str(),
               (long long)steps, envs, o.threads, (unsigned long long)o.seed, runDir.c_str());
