@@ -28,9 +28,12 @@ const StairsSpan* nextSpan(const Path& path, double arc, double exit) {
 
 const char* skillName(NavSkill skill) {
   switch (skill) {
-    case NavSkill::Walk: return "walk";
-    case NavSkill::Run: return "run";
-    case NavSkill::Stairs: return "stairs";
+    case NavSkill::Walk:
+      return "walk";
+    case NavSkill::Run:
+      return "run";
+    case NavSkill::Stairs:
+      return "stairs";
   }
   return "?";
 }

@@ -102,12 +102,12 @@ double straightAhead(const Path& path, double s, double cornerAngle);
 /// What the skill choice looks at.
 struct SkillCues {
   NavSkill current = NavSkill::Walk;
-  double straightAhead = 0;   ///< [m] (ends where the stairs' approach begins)
-  double headingError = 0;    ///< to the lookahead point [rad]
+  double straightAhead = 0;  ///< [m] (ends where the stairs' approach begins)
+  double headingError = 0;   ///< to the lookahead point [rad]
   double obstacleFactor = 1;
-  bool stairsZone = false;    ///< within stairsApproach before a stairs span up to stairsExit past it
-  bool squaredUp = false;     ///< facing the span's heading within stairsAlignTolerance
-  double speed = 0;           ///< the robot's forward speed [m/s]
+  bool stairsZone = false;  ///< within stairsApproach before a stairs span up to stairsExit past it
+  bool squaredUp = false;   ///< facing the span's heading within stairsAlignTolerance
+  double speed = 0;         ///< the robot's forward speed [m/s]
 };
 /// Stairs in a stairs zone (taken over once squared up and slower than stairsEntrySpeed, then kept to the zone's
 /// end); run on a long straight (hysteresis: runStraight/runHeading/runObstacle to start, the runLeave* to stop);
@@ -116,20 +116,20 @@ NavSkill chooseSkill(const SkillCues& cues, const FollowerParams& params);
 
 /// A command for the robot.
 struct NavCommand {
-  double vr = 0;   ///< forward speed [m/s] (negative: backward)
-  double wr = 0;   ///< yaw rate [rad/s], + turns left
+  double vr = 0;  ///< forward speed [m/s] (negative: backward)
+  double wr = 0;  ///< yaw rate [rad/s], + turns left
   NavSkill skill = NavSkill::Walk;
 };
 
 /// What the follower saw this tick (for telemetry, figures and the navigator's stuck clock).
 struct FollowInfo {
   PathProgress progress;
-  double headingError = 0;     ///< [rad]
+  double headingError = 0;  ///< [rad]
   double obstacleFactor = 1;
-  double remaining = 0;        ///< path left [m]
+  double remaining = 0;  ///< path left [m]
   bool stairsZone = false;
-  bool squaringUp = false;     ///< turning to the staircase's axis before going on
-  bool turningInPlace = false; ///< the command turns with vr held at 0 by the heading (not by an obstacle)
+  bool squaringUp = false;      ///< turning to the staircase's axis before going on
+  bool turningInPlace = false;  ///< the command turns with vr held at 0 by the heading (not by an obstacle)
 };
 
 /// Follows one path: keeps the progress along it and the skill in use between ticks (deterministic: no clock).

@@ -17,10 +17,14 @@ constexpr double kTimeEpsilon = 1e-9;
 
 const char* stateName(NavState state) {
   switch (state) {
-    case NavState::Idle: return "idle";
-    case NavState::Following: return "following";
-    case NavState::BackingOff: return "backing off";
-    case NavState::NoPath: return "no path";
+    case NavState::Idle:
+      return "idle";
+    case NavState::Following:
+      return "following";
+    case NavState::BackingOff:
+      return "backing off";
+    case NavState::NoPath:
+      return "no path";
   }
   return "?";
 }
@@ -111,9 +115,9 @@ NavOutput Navigator::step(const engine::PlaneWorld& plane, const NavInput& in, d
       // the disc checked is a little smaller than the robot's: a path replanned around the body passes cell centres
       // a full radius from it, and between them it may come closer by up to half a cell's diagonal
       const double cell = params_.grid.cellSize;
-      const double blockedAt = firstBlockedArc(plane, path_, at.arc, params_.blockLookahead,
-                                               std::max(0.5 * params_.grid.robotRadius, params_.grid.robotRadius - 0.71 * cell),
-                                               0.5 * cell);
+      const double blockedAt =
+          firstBlockedArc(plane, path_, at.arc, params_.blockLookahead,
+                          std::max(0.5 * params_.grid.robotRadius, params_.grid.robotRadius - 0.71 * cell), 0.5 * cell);
       if (blockedAt >= 0) {
         out.events.blocked = blockedNow = true;
         lastBlockReplan_ = time_;

@@ -25,20 +25,20 @@ class PlaneWorld;
 namespace game::nav {
 
 struct NavigatorParams {
-  GridDef grid;             ///< the mapped rectangle, cell size and robot radius
+  GridDef grid;  ///< the mapped rectangle, cell size and robot radius
   PlannerParams planner;
   FollowerParams follower;
 
-  double reachRadius = 0.3;        ///< the target is reached within this of the path's end [m]
+  double reachRadius = 0.3;  ///< the target is reached within this of the path's end [m]
   /// look for movable bodies on this much of the path ahead [m], with circle queries every half cell of radius
   /// max(r / 2, r - 0.71 cell) (r the robot's: a path replanned around a body passes cell centres a full r from it,
   /// and may come closer by half a cell's diagonal between them)
   double blockLookahead = 3.0;
-  double movableWindow = 4.0;      ///< a replan marks the movable bodies within this of the robot [m] (a square;
-                                   ///< blockLookahead + 1 m, so a body seen on the path is marked whole)
-  double replanCooldown = 0.5;     ///< at most one replan for a movable body per this [s] (a moving ghost)
-  double offPathDistance = 1.0;    ///< replan when the robot is this far from its path [m]
-  double retrySeconds = 1.0;       ///< with no way to the target, try again after this [s]
+  double movableWindow = 4.0;    ///< a replan marks the movable bodies within this of the robot [m] (a square;
+                                 ///< blockLookahead + 1 m, so a body seen on the path is marked whole)
+  double replanCooldown = 0.5;   ///< at most one replan for a movable body per this [s] (a moving ghost)
+  double offPathDistance = 1.0;  ///< replan when the robot is this far from its path [m]
+  double retrySeconds = 1.0;     ///< with no way to the target, try again after this [s]
 
   // stuck: no progress means the path left has not shrunk by stuckProgress for stuckSeconds, counting only the time
   // the robot was asked to move forward (turning in place, squaring up to stairs and backing off do not count)
@@ -75,8 +75,8 @@ struct NavOutput {
   NavCommand command;
   NavEvents events;
   NavState state = NavState::Idle;
-  FollowInfo follow;             ///< the follower's view (while Following)
-  double targetDistance = 0;     ///< straight-line distance to the target [m] (0 without one)
+  FollowInfo follow;          ///< the follower's view (while Following)
+  double targetDistance = 0;  ///< straight-line distance to the target [m] (0 without one)
 };
 
 class Navigator {
@@ -111,12 +111,12 @@ class Navigator {
   NavState state_ = NavState::Idle;
   bool hasTarget_ = false, planPending_ = false;
   Eigen::Vector2d target_ = Eigen::Vector2d::Zero();
-  double time_ = 0;                 // sum of dt [s]
-  double lastBlockReplan_ = -1e9;   // when the last replan for a movable body was [s]
-  double stateSince_ = 0;           // when the current state began [s]
-  double bestRemaining_ = 1e18;     // the least path left since the clock was last reset [m]
-  double noProgressTime_ = 0;       // time asked to move forward without progress [s]
-  bool markStuckSpot_ = false;      // the next replan blocks stuckSpot_
+  double time_ = 0;                // sum of dt [s]
+  double lastBlockReplan_ = -1e9;  // when the last replan for a movable body was [s]
+  double stateSince_ = 0;          // when the current state began [s]
+  double bestRemaining_ = 1e18;    // the least path left since the clock was last reset [m]
+  double noProgressTime_ = 0;      // time asked to move forward without progress [s]
+  bool markStuckSpot_ = false;     // the next replan blocks stuckSpot_
   Eigen::Vector2d stuckSpot_ = Eigen::Vector2d::Zero();
 };
 

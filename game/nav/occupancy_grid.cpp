@@ -10,9 +10,13 @@
 namespace game::nav {
 
 OccupancyGrid::OccupancyGrid(const Eigen::Vector2d& origin, double cellSize, int width, int height)
-    : origin_(origin), cellSize_(cellSize), width_(width), height_(height),
+    : origin_(origin),
+      cellSize_(cellSize),
+      width_(width),
+      height_(height),
       kind_(static_cast<size_t>(width) * static_cast<size_t>(height), CellKind::Free),
-      axis_(kind_.size(), 0.0f), temporary_(kind_.size(), 0) {}
+      axis_(kind_.size(), 0.0f),
+      temporary_(kind_.size(), 0) {}
 
 Eigen::Vector2i OccupancyGrid::cellAt(const Eigen::Vector2d& p) const {
   const Eigen::Vector2d q = (p - origin_) / cellSize_;
@@ -23,9 +27,7 @@ Eigen::Vector2d OccupancyGrid::centre(int ix, int iy) const {
   return origin_ + cellSize_ * Eigen::Vector2d(ix + 0.5, iy + 0.5);
 }
 
-CellKind OccupancyGrid::kind(int ix, int iy) const {
-  return inside(ix, iy) ? kind_[index(ix, iy)] : CellKind::Blocked;
-}
+CellKind OccupancyGrid::kind(int ix, int iy) const { return inside(ix, iy) ? kind_[index(ix, iy)] : CellKind::Blocked; }
 
 double OccupancyGrid::stairAxis(int ix, int iy) const { return inside(ix, iy) ? axis_[index(ix, iy)] : 0.0; }
 
@@ -68,16 +70,18 @@ OccupancyGrid buildOccupancyGrid(const engine::PlaneWorld& plane, const GridDef&
       bool wall = false, stairs = false;
       double axis = 0;
       for (const int tag : plane.queryCircle(grid.centre(ix, iy), def.robotRadius)) {
-        if (engine::isWallTag(tag)) wall = true;
-        else if (engine::isStairTag(tag) && !stairs) stairs = true, axis = engine::stairHeading(tag);
+        if (engine::isWallTag(tag))
+          wall = true;
+        else if (engine::isStairTag(tag) && !stairs)
+          stairs = true, axis = engine::stairHeading(tag);
       }
       grid.set(ix, iy, wall ? CellKind::Blocked : stairs ? CellKind::Stairs : CellKind::Free, axis);
     }
   return grid;
 }
 
-int markMovables(OccupancyGrid* grid, const engine::PlaneWorld& plane, const Eigen::Vector2d& around,
-                 double halfWindow, double robotRadius) {
+int markMovables(OccupancyGrid* grid, const engine::PlaneWorld& plane, const Eigen::Vector2d& around, double halfWindow,
+                 double robotRadius) {
   const Eigen::Vector2i lo = grid->cellAt(around - Eigen::Vector2d::Constant(halfWindow));
   const Eigen::Vector2i hi = grid->cellAt(around + Eigen::Vector2d::Constant(halfWindow));
   int marked = 0;

@@ -70,7 +70,9 @@ class OccupancyGrid {
   bool allowsHeading(int ix, int iy, double heading, double tolerance) const;
 
  private:
-  size_t index(int ix, int iy) const { return static_cast<size_t>(iy) * static_cast<size_t>(width_) + static_cast<size_t>(ix); }
+  size_t index(int ix, int iy) const {
+    return static_cast<size_t>(iy) * static_cast<size_t>(width_) + static_cast<size_t>(ix);
+  }
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
   double cellSize_ = 0.1;
   int width_ = 0, height_ = 0;
@@ -86,8 +88,8 @@ OccupancyGrid buildOccupancyGrid(const engine::PlaneWorld& plane, const GridDef&
 
 /// Marks as temporary every cell within `halfWindow` [m] (a square) of `around` whose disc of `robotRadius`
 /// overlaps a movable body (engine::isMovableTag). Returns how many cells it marked.
-int markMovables(OccupancyGrid* grid, const engine::PlaneWorld& plane, const Eigen::Vector2d& around,
-                 double halfWindow, double robotRadius);
+int markMovables(OccupancyGrid* grid, const engine::PlaneWorld& plane, const Eigen::Vector2d& around, double halfWindow,
+                 double robotRadius);
 
 /// Marks as temporary every cell whose centre is within `radius` of `centre` (e.g. where the robot got stuck).
 int markDisc(OccupancyGrid* grid, const Eigen::Vector2d& centre, double radius);

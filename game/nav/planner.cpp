@@ -125,7 +125,8 @@ std::vector<Eigen::Vector2i> searchCells(const OccupancyGrid& g, const Eigen::Ve
     closed[e.cell] = 1;
     ++count;
     if (e.cell == t) break;
-    const int cx = static_cast<int>(e.cell % static_cast<size_t>(w)), cy = static_cast<int>(e.cell / static_cast<size_t>(w));
+    const int cx = static_cast<int>(e.cell % static_cast<size_t>(w)),
+              cy = static_cast<int>(e.cell / static_cast<size_t>(w));
     for (const auto& m : kMoves) {
       const int nx = cx + m[0], ny = cy + m[1];
       const double heading = std::atan2(double(m[1]), double(m[0]));
@@ -168,7 +169,8 @@ bool lineOfSight(const OccupancyGrid& g, const Eigen::Vector2d& a, const Eigen::
   const int stepX = dc.x() > 0 ? 1 : dc.x() < 0 ? -1 : 0, stepY = dc.y() > 0 ? 1 : dc.y() < 0 ? -1 : 0;
   double tMaxX = stepX > 0 ? (ix + 1 - p.x()) / dc.x() : stepX < 0 ? (p.x() - ix) / -dc.x() : kInf;
   double tMaxY = stepY > 0 ? (iy + 1 - p.y()) / dc.y() : stepY < 0 ? (p.y() - iy) / -dc.y() : kInf;
-  const double tDeltaX = stepX != 0 ? 1.0 / std::abs(dc.x()) : kInf, tDeltaY = stepY != 0 ? 1.0 / std::abs(dc.y()) : kInf;
+  const double tDeltaX = stepX != 0 ? 1.0 / std::abs(dc.x()) : kInf,
+               tDeltaY = stepY != 0 ? 1.0 / std::abs(dc.y()) : kInf;
   const int limit = 2 * (std::abs(ex - ix) + std::abs(ey - iy)) + 4;
   for (int i = 0; i < limit && (ix != ex || iy != ey); ++i) {
     const double tNext = std::min(tMaxX, tMaxY);
@@ -204,8 +206,10 @@ Path planPath(const OccupancyGrid& grid, const Eigen::Vector2d& start, const Eig
   if (startSnapped) raw.push_back(start);
   for (const Eigen::Vector2i& c : cells) raw.push_back(grid.centre(c.x(), c.y()));
   if (!startSnapped) raw.front() = start;
-  if (raw.size() == 1) raw.push_back(goalSnapped ? grid.centre(to.x(), to.y()) : goal);  // one cell
-  else if (!goalSnapped) raw.back() = goal;
+  if (raw.size() == 1)
+    raw.push_back(goalSnapped ? grid.centre(to.x(), to.y()) : goal);  // one cell
+  else if (!goalSnapped)
+    raw.back() = goal;
 
   // pulled taut: from each kept point, on to the furthest point after it that is still in sight (the next one
   // always is: grid moves are valid, and the step off a snapped start is taken as it is)
@@ -218,8 +222,10 @@ Path planPath(const OccupancyGrid& grid, const Eigen::Vector2d& start, const Eig
     i = j;
   }
   path.arc.assign(1, 0.0);
-  for (size_t k = 1; k < path.points.size(); ++k) path.arc.push_back(path.arc.back() + (path.points[k] - path.points[k - 1]).norm());
-  for (size_t k = 0; k + 1 < path.points.size(); ++k) addStairSpans(grid, path.points[k], path.points[k + 1], path.arc[k], &path.stairs);
+  for (size_t k = 1; k < path.points.size(); ++k)
+    path.arc.push_back(path.arc.back() + (path.points[k] - path.points[k - 1]).norm());
+  for (size_t k = 0; k + 1 < path.points.size(); ++k)
+    addStairSpans(grid, path.points[k], path.points[k + 1], path.arc[k], &path.stairs);
   return path;
 }
 

@@ -1,5 +1,6 @@
-// nav_navigator_test.cpp — the garden's path follower and navigator (game/nav/): the interlock, the obstacle factor, the skill
-// choice, squaring up to stairs, replanning and stuck detection in the navigator, closed loop with a unicycle.
+// nav_navigator_test.cpp — the garden's path follower and navigator (game/nav/): the interlock, the obstacle factor,
+// the skill choice, squaring up to stairs, replanning and stuck detection in the navigator, closed loop with a
+// unicycle.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -60,7 +61,6 @@ TEST_F(NavCorridor, WithBothGapsBlockedTheNavigatorStandsAndRetries) {
   EXPECT_EQ(retries, 2);  // after 1 s and 2 s (retrySeconds)
 }
 
-
 // ---- the follower -------------------------------------------------------------------------------------------------
 
 TEST(NavFollower, TheInterlockBoundaryRunsFromFullSpeedToTheMinimumAtFullTurn) {
@@ -107,8 +107,8 @@ TEST(NavFollower, ObstacleFactorIsOneWhenClearAndZeroAtContact) {
   const game::nav::FollowerParams p;    // 0 at 0.35 m from the pelvis, 1 from 1.5 m
   double nearest = 0;
   EXPECT_DOUBLE_EQ(game::nav::obstacleFactor(plane, V2(0, 0), 0.0, p, &nearest), 1.0);  // 3 m away
-  EXPECT_NEAR(nearest, 1e9, 1);  // beyond the rays
-  EXPECT_DOUBLE_EQ(game::nav::obstacleFactor(plane, V2(1.4, 0), 0.0, p), 1.0);  // 1.6 m
+  EXPECT_NEAR(nearest, 1e9, 1);                                                         // beyond the rays
+  EXPECT_DOUBLE_EQ(game::nav::obstacleFactor(plane, V2(1.4, 0), 0.0, p), 1.0);          // 1.6 m
   // 0.925 m: (0.925 - 0.35) / (1.5 - 0.35) = 0.5
   EXPECT_NEAR(game::nav::obstacleFactor(plane, V2(3.0 - 0.925, 0), 0.0, p, &nearest), 0.5, 1e-5);
   EXPECT_NEAR(nearest, 0.925, 1e-5);
@@ -189,7 +189,7 @@ TEST(NavSkillChoice, StairsOnlyOnceSquaredUpAndSlow) {
 TEST(NavFollower, SquaresUpToTheStairsBeforeTakingThem) {
   engine::PlaneWorld plane;
   addRect(plane, 4.0, 2.0, 6.0, 4.0, engine::stairTag(0.0));  // stairs 2 m wide along +X, x 4-6
-  addRect(plane, 4.0, 0.0, 6.0, 1.2);                           // walls either side
+  addRect(plane, 4.0, 0.0, 6.0, 1.2);                         // walls either side
   addRect(plane, 4.0, 4.8, 6.0, 6.0);
   const game::nav::OccupancyGrid g = game::nav::buildOccupancyGrid(plane, coarseRoom());
   const game::nav::Path path = game::nav::planPath(g, V2(1.25, 2.75), V2(8.75, 3.25));

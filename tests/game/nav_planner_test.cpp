@@ -1,5 +1,6 @@
-// nav_planner_test.cpp — the garden's map and planner (game/nav/): the grid built from the 2D layer, A* and its pulled-taut paths on
-// hand-made maps whose lengths are worked out in the comments, and replanning around a ball (maps: nav_maps.h).
+// nav_planner_test.cpp — the garden's map and planner (game/nav/): the grid built from the 2D layer, A* and its
+// pulled-taut paths on hand-made maps whose lengths are worked out in the comments, and replanning around a ball (maps:
+// nav_maps.h).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -178,8 +179,8 @@ TEST(NavPlanner, CrossesAStaircaseOnlyAlongItsAxis) {
 
   // without the staircase the same room is crossed on the diagonal
   engine::PlaneWorld open;
-  const game::nav::Path free = game::nav::planPath(game::nav::buildOccupancyGrid(open, coarseRoom()), V2(1.25, 0.75),
-                                                   V2(8.75, 5.25));
+  const game::nav::Path free =
+      game::nav::planPath(game::nav::buildOccupancyGrid(open, coarseRoom()), V2(1.25, 0.75), V2(8.75, 5.25));
   EXPECT_NEAR(free.gridCost, (9 * kSqrt2 + 6) * 0.5, 1e-9);
 }
 
