@@ -1,6 +1,7 @@
 // plane_world.h — a level's 2D layer (Box2D 2.4): static obstacles projected into the level's plane
 // (the Mario side plane or the garden's top-down map), later ghosts; ray casts and proximity queries for
 // the autopilot. Stepped on the fixed tick by the game loop; Box2D types stay in the .cpp.
+// What a body's tag means (a wall, a staircase and its axis, something movable): engine/plane/plane_tags.h.
 #pragma once
 
 #include <Eigen/Core>
