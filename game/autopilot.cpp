@@ -47,7 +47,7 @@ constexpr double kStoodHeight = 0.70;    // standing again
 constexpr double kFlightHeight = 0.86;  // pelvis [m] above which a jump has left the ground (standing: 0.78)
 // kBalanceTicks: the one-leg stand before the kick. Over 10 seeds of levels/mario the kick fell 37 times after
 // 1.5 s of it, 22 after 3 s, 18 after 5 s (the same 6 wins as 1.5 s), 17 after 8 s (4 wins: the waits ran the clock out).
-// Counted from the stand's takeover (session 25: the switch into it waits up to 3 s for the robot to stop drifting,
+// Counted from the stand's takeover (the switch into it waits up to 3 s for the robot to stop drifting,
 // robot::kSettleDrift; counted from the key, as before, the stand shrank to 2 s and seeds 3 and 9 of 1-60 ran out of
 // time re-lining up); kBalanceTimeout from the key, in case the stand never takes over.
 constexpr int64_t kBalanceTimeout = 700;

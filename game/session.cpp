@@ -83,8 +83,8 @@ robot::JointArray Session::jitteredStandingPose() {
 void Session::respawn(double x) {
   // upright, facing +X, feet on the ground in the default pose, at rest: the root skill (walk) takes the robot as
   // at a level's start and the velocity commands start from 0 (held keys ramp them up again; a request for another
-  // skill routes from the root as usual). Until session 9 the fallen skill went on: a run started from a standstill
-  // at the default pose at 2 m/s and fell again 0.56 s after every respawn on levels/mario.
+  // skill routes from the root as usual). Were the fallen skill to go on, a run would start from a standstill at
+  // the default pose at 2 m/s and fall again 0.56 s after every respawn on levels/mario.
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
   base.translation() = Eigen::Vector3d(x, 0.0, model_.spawnHeight);
   // the joints jittered as at the start, by the seed's generator going on: a retry is a new attempt at the stage

@@ -86,7 +86,7 @@ bool mayHandOver(const SkillDef& from, const SkillDef& to);
 /// pelvis is near upright.
 Eigen::Vector2d groundHeading(const Sensors& sensors);
 
-/// Standing again after a stand-up (issue 5): pelvis at least kStoodPelvisHeight [m] up, tilted less than
+/// Standing again after a stand-up: pelvis at least kStoodPelvisHeight [m] up, tilted less than
 /// kStoodTiltDegrees. A ground skill hands over to an upright one (standup -> walk) only once the robot stands so:
 /// a routed request (key 0 while lying) would otherwise hand a half-risen robot to the walk after kMinHopTicks.
 constexpr double kStoodPelvisHeight = 0.70;
@@ -111,7 +111,7 @@ bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors
 /// stand (from closingStandTick on) once the robot has stopped drifting (`drift`, robot::updateDrift, under
 /// kSettleDrift; after kMaxSettleWaitTicks of waiting, the closing stand alone), and while it waits the clock holds
 /// in that stand instead of starting the next crouch (holdsClosingStand). The squat taking over at the first
-/// settled moment after a landing, still drifting back at ~0.2 m/s, turned on the spot and fell (session 25). A
+/// settled moment after a landing, still drifting back at ~0.2 m/s, turned on the spot and fell. A
 /// moving destination (the walk, routed through the squat) takes over as before: it steps out of the drift (with
 /// the rule for it too, the jump fell 50 times over levels/mario's autopilot seeds 1-60, against 17).
 bool isKeyPoseCycle(const SkillDef& skill);
@@ -124,7 +124,7 @@ bool cycleAllowsSwitch(const SkillDef& from, const SkillDef& destination, const 
 /// True when the clock of `skill` stays where it is this tick: a request out of it to a still destination waits
 /// (`waitsForStill`) and its cycle has reached its closing stand.
 bool holdsClosingStand(const SkillDef& skill, const PhaseClock& phase, bool waitsForStill);
-/// The kick shipped in session 24 does not stand still after its kick: it turns on the spot and steps (a later
+/// A kick policy may not stand still after its kick: it turns on the spot and steps (a later
 /// fine-tune of it taps its right foot, leg joints at 0.6-3 rad/s, both feet down a third of the time), so waiting for
 /// a settled stand, kick -> one_leg never happened (0 of 20, `eval switches`). Rest on both feet and level at once
 /// made that 20 of 20, but out of the jump the walk then took over at its first landing and
@@ -195,7 +195,7 @@ bool readyForSwitch(const SkillDef& from, const SkillDef& to, const SkillCommand
 /// Into a settle_first skill (the one-leg stand) the robot has come to a stop: its drift (the pelvis's horizontal
 /// velocity low-passed over kDriftSeconds, which averages out the sway of stepping in place: 0-0.22 m/s each step)
 /// is under kSettleDrift [m/s]. Taking over at the first moment at rest after W was released, the one-leg stand fell
-/// in 4 of 6 seeds on levels/flat (session 25: the pelvis passes 0.15 m/s while the walk is still braking); the walk
+/// in 4 of 6 seeds on levels/flat (the pelvis passes 0.15 m/s while the walk is still braking); the walk
 /// stepping in place never stills its legs, so a settled stand (isStandingSettled) would wait kMaxSettleWaitTicks.
 constexpr double kDriftSeconds = 0.4;
 constexpr double kSettleDrift = 0.04;

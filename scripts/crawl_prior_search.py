@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """crawl_prior_search.py — tune the crawl's key-pose prior with an evolution strategy, scored in physics.
 
-How session 36 found the crawl's prior (assets/skills/crawl.train.md). The gait is described by 20 numbers (below):
+How the crawl's prior was found (assets/skills/crawl.train.md). The gait is described by 20 numbers (below):
 the hands-and-knees pose, the swing of the shoulders and hips, the tuck of one side at a time, the cycle's period,
 and the gains of the prior's `turn` (the joint offsets per rad/s of the yaw-rate command that the card's steering
 and play's steering turn it with). Each candidate is written into a copy of the skill tree, and scored by the crawl
@@ -37,7 +37,7 @@ NAMES = ['S', 'E', 'H', 'K', 'A',  # the pose on hands and knees: shoulder pitch
          'c_t', 'w_a', 'at',       # the tucked side's shoulder at mid-swing, waist twist with the swing, ankle tuck
          'T',                      # the cycle [s], to 0.04 s
          'tw', 'ts', 'th']         # turn: waist yaw, shoulder roll, hip yaw [rad per rad/s of wz], each within +-1
-# where session 36's second stage started (its first stage had started from session 10's hand-found gait:
+# where the search's second stage started (its first stage had started from an earlier hand-found gait:
 # -1.72 -0.69 -1.63 2.14 0.13 0.40 0.20 0.30 -0.40 0.40 0 0 0 0 0 0 1.0, with the waist alone turning)
 START = [-1.7323, -0.7262, -1.6651, 2.1556, 0.1218, 0.3499, 0.1581, 0.3224, -0.4400, 0.4231, -0.0161, -0.0034,
          -0.0116, 0.0047, -0.0045, 0.0496, 0.9509, 0.33, 0.0, 0.0]

@@ -108,7 +108,7 @@ double heightTrack(const RewardContext& c) {
 // the centre of mass sideways (across the pelvis's heading) over the point between the feet while a two-stage
 // pose's first stage has not moved the weight (the one-leg stand at amplitude 0, where play stands before the
 // kick); the term fades to 1 as that stage moves the weight over the left foot: where it balances there (3-5 cm
-// inside the ankle, session 22) is the policy's to find
+// inside the ankle) is the policy's to find
 double weightCentred(const RewardContext& c) {
   const robot::Sensors& s = *c.sensors;
   double first = 0.0, late = 0.0;
@@ -136,7 +136,7 @@ double proneHeight(const RewardContext& c) {
   return std::exp(-e * e);
 }
 double sideLevel(const RewardContext& c) { return -0.05 * std::abs(robot::sideLean(*c.sensors) * kDeg); }
-// the stand-up (issue 5): the way from lying (pelvis on the ground) up to standing, the trunk coming upright, and
+// the stand-up: the way from lying (pelvis on the ground) up to standing, the trunk coming upright, and
 // standing as the card and the runtime's hand-over to the walk count it (robot::hasStoodUp)
 double standHeight(const RewardContext& c) {
   return std::clamp((c.sensors->basePosition.z() - kPronePelvisHeight) / (robot::kStoodPelvisHeight - kPronePelvisHeight), 0.0, 1.0);

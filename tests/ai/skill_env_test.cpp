@@ -510,7 +510,7 @@ TEST(SkillEnv, AHandoverIntoTheJumpWaitsForASettledStandAsPlayDoes) {
   // walk -> squat -> jump with the squat's time drawn at 0.3 s: the squat's policy bobs (crouch and deeper every
   // 0.1 s) for its first 0.5 s and then holds the crouch. Play switches into the jump only once the robot stands
   // settled (robot::postureAllowsSwitch); so must the lead-in: the jump starts with every leg joint slower than
-  // kSettledJointSpeed, after the bobbing, not at the drawn 0.3 s (until session 29 the lead-in switched at
+  // kSettledJointSpeed, after the bobbing, not at the drawn 0.3 s (an earlier lead-in switched at
   // once from a still skill: the jump card's entries had leg joints at up to 4.7 rad/s). A squat that never stops
   // bobbing never hands over: the lead-in is drawn again.
   const JumpRoute r = jumpRoute();

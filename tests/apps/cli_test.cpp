@@ -150,7 +150,7 @@ TEST(Cli, TheShippedScriptWinsTheMarioCourse) {
                             "squat->jump at", "question box at x = 32.00 hit", "question box at x = 33.50 hit",
                             "one_leg->kick at", "won: the ball is in the goal"})
     EXPECT_NE(r.out.find(stage), std::string::npos) << stage << "\n" << r.out;
-  // the paper's switch continuity (issue 6): walk -> run when the ghost comes, from about 0.8 m/s to >= 1.8 m/s
+  // the paper's switch continuity: walk -> run when the ghost comes, from about 0.8 m/s to >= 1.8 m/s
   // 2-3 s later, with no spike: the 0.1 s-smoothed forward speed changes by at most 5 m/s^2 (half a g; the W key's
   // ramp asks for 2) from 0.5 s before the switch to 3 s after
   const size_t at = r.out.find("switch     walk->run at");
@@ -188,7 +188,7 @@ TEST(Cli, AKeyScriptsSeedLinePlaysAsTheSameSeedGivenByOption) {
 }
 
 TEST(Cli, TheStepsTourEndsAliveThroughEveryShippedStage) {
-  // levels/steps/tour.keys (issue 5): walk, run, squat, one jump, stairs, prone, crawl through the tunnel,
+  // levels/steps/tour.keys: walk, run, squat, one jump, stairs, prone, crawl through the tunnel,
   // stand-up, and the walk again at the end, without a fall (at seed 1; 50 of seeds 1-60 end alive, the stairs fall)
   const CliRun r = run("play levels/steps --keys tour.keys --expect alive");
   EXPECT_EQ(r.code, 0) << r.out;

@@ -55,8 +55,8 @@ TEST(Replay, DifferentInputsGiveDifferentHashes) {
 }
 
 TEST(Replay, GoldenHashPinsDeterminism) {
-  // Pinned for this binary's physics (Bullet 3.24 float, -ffp-contract=off), robot model and levels/steps (session 13:
-  // the level's spawn moved to y = 2.3 with the tour's course, dcf4adce918b1cd2 before).
+  // Pinned for this binary's physics (Bullet 3.24 float, -ffp-contract=off), robot model and levels/steps (its spawn
+  // at y = 2.3).
   // If you changed the robot model, the level, the physics or the controller on purpose, update the value
   // below to the one printed; otherwise a change here means determinism broke.
   const game::PlayResult r = game::play(steps(), model(), scripted(42, 200));

@@ -112,7 +112,7 @@ TEST(PosePrior, JumpKeyPosesAloneJumpOnceAndLandUprightWhateverTheWaitBefore) {
   // physics, zero policy output, friction 1: after standing 0-4 s, the first 1.6 s cycle of key poses leaves the
   // ground with both feet once (a flight of >= 3 ticks) with the pelvis >= 0.10 m above its standing height (the
   // card's bar), and lands without tilting past 0.5 rad (the card's fall: 30 deg). Later jumps are the policy's:
-  // the prior alone falls at the second to fourth landing on some waits (jump.train.md, session 15)
+  // the prior alone falls at the second to fourth landing on some waits (the jump prior alone)
   const robot::RobotModel& model = fixtures::robotModel();
   const ai::TrainingTree& tree = shippedTree();
   const ai::SkillSpec& jump = *tree.find("jump");
@@ -207,7 +207,7 @@ TEST(PosePrior, StandUpKeyframesAloneRaiseTheProneRobotWithinFiveSecondsAndItSta
   // physics, zero policy output: the prone prior lays the G1 face down (4 s), then the switch to the stand-up as
   // the runtime makes it (its clock from 0, the prone prior fading out over 0.3 s on its own clock). The stand-up's
   // keyframes alone bring the pelvis to >= 0.70 m with a tilt under 10 deg (the card) within 5 s (measured
-  // 4.64 s; 4.99 s before session 9 sped up the rise from the squat), never roll it onto a side or the back, and it
+  // 4.64 s; 4.99 s before the rise from the squat was sped up from the squat), never roll it onto a side or the back, and it
   // is still standing 2 s later.
   const robot::RobotModel& model = fixtures::robotModel();
   const ai::TrainingTree& tree = shippedTree();
