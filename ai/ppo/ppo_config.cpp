@@ -70,7 +70,7 @@ struct FieldReader {
     v = int(*i);
   }
   void operator()(double& v) const {
-    if (!node.is_number()) fail("a number");
+    if (!node.is_number() || !std::isfinite(*node.value<double>())) fail("a finite number");
     v = *node.value<double>();
   }
   void operator()(bool& v) const {
@@ -139,8 +139,18 @@ void validatePpoConfig(const PpoConfig& c, const std::string& what) {
   require(c.valueLossCoef >= 0, "value_loss_coef must be non-negative");
   require(c.maxGradNorm > 0, "max_grad_norm must be positive");
   require(!c.actorHidden.empty() && !c.criticHidden.empty(), "actor_hidden and critic_hidden need at least one layer");
-  for (int h : c.actorHidden) require(h > 0, "actor_hidden widths must be positive");
-  for (int h : c.criticHidden) require(h > 0, "critic_hidden widths must be positive");
+  // sizes a 2-core machine can hold and finish: a layer of 2^31 units ends in bad_alloc, 2^31 epochs never end
+  require(c.bufferSize <= 10000000 && c.batchSize <= c.bufferSize, "buffer_size must be at most 10^7 and batch_size at most buffer_size");
+  require(c.numEpoch <= 1000, "num_epoch must be at most 1000");
+  require(c.actorHidden.size() <= 16 && c.criticHidden.size() <= 16, "actor_hidden and critic_hidden have at most 16 layers");
+  for (int h : c.actorHidden) require(h > 0 && h <= 8192, "actor_hidden widths must be in [1, 8192]");
+  for (int h : c.criticHidden) require(h > 0 && h <= 8192, "critic_hidden widths must be in [1, 8192]");
+  require(c.learningRate < 1 && c.learningRateFinal < 1 && c.branchLearningRate < 1 && c.adaptiveLrMax < 1,
+          "learning_rate, learning_rate_final, branch_learning_rate and adaptive_lr_max must be below 1");
+  require(c.desiredKl < 10, "desired_kl must be below 10");
+  require(c.epsilon < 10 && c.epsilonFinal < 10, "epsilon and epsilon_final must be below 10");
+  require(c.beta < 10 && c.betaFinal < 10, "beta and beta_final must be below 10");
+  require(c.logStdMin >= -20 && c.logStdMax <= 5, "log_std_min and log_std_max must lie in [-20, 5]");
   require(c.actorOutputGain > 0 && c.criticOutputGain > 0, "output gains must be positive");
   require(c.observationClip > 0, "observation_clip must be positive");
   require(c.logStdMin < c.logStdMax, "log_std_min must be below log_std_max");

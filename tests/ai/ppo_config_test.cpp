@@ -35,14 +35,14 @@ TEST(PpoConfig, DefaultsAreTable2) {
 
 TEST(PpoConfig, TableOverridesDefaults) {
   const PpoConfig c = parsePpoConfig("[env]\nx = 1\n[ppo]\nbatch_size = 512\ngamma = 0.99\nactor_hidden = [64, 64]\n"
-                                     "activation = \"tanh\"\nclip_value_loss = true\nlearning_rate = 1\n",
+                                     "activation = \"tanh\"\nclip_value_loss = true\nreward_scale = 2\n",
                                      "run.toml");
   EXPECT_EQ(c.batchSize, 512);
   EXPECT_EQ(c.gamma, 0.99);
   EXPECT_EQ(c.actorHidden, (std::vector<int>{64, 64}));
   EXPECT_EQ(c.activation, Activation::Tanh);
   EXPECT_TRUE(c.clipValueLoss);
-  EXPECT_EQ(c.learningRate, 1.0);  // an integer is accepted for a real field
+  EXPECT_EQ(c.rewardScale, 2.0);  // an integer is accepted for a real field
   EXPECT_EQ(c.bufferSize, 20480);
   EXPECT_EQ(toToml(parsePpoConfig("", "empty.toml")), toToml(PpoConfig{}));  // no [ppo]: defaults
 }
@@ -69,6 +69,18 @@ TEST(PpoConfig, UnknownKeyWrongTypeAndBadValueReportFileAndLine) {
   EXPECT_EQ(errorOf("[ppo]\ngamma = 1.5\n"), "run.toml:2: gamma must be in (0, 1]");
   EXPECT_EQ(errorOf("[ppo]\ngamma = \n"), errorOf("[ppo]\ngamma = \n"));  // parse errors are located too
   EXPECT_EQ(errorOf("[ppo]\ngamma = \n").rfind("run.toml:2:", 0), 0u);
+}
+
+// values that would only fail hours into a run (or never finish) are refused before the first step, at their line
+TEST(PpoConfig, NonFiniteAndUnworkableValuesAreRefusedAtTheirLine) {
+  EXPECT_EQ(errorOf("[ppo]\nobservation_clip = inf\n"), "run.toml:2: 'observation_clip' must be a finite number");
+  EXPECT_EQ(errorOf("[ppo]\nepsilon = nan\n"), "run.toml:2: 'epsilon' must be a finite number");
+  EXPECT_EQ(errorOf("[ppo]\ndesired_kl = 1e300\n"), "run.toml:2: desired_kl must be below 10");
+  EXPECT_EQ(errorOf("[ppo]\n\nactor_hidden = [2147483647]\n"), "run.toml:3: actor_hidden widths must be in [1, 8192]");
+  EXPECT_EQ(errorOf("[ppo]\nnum_epoch = 2147483647\n"), "run.toml:2: num_epoch must be at most 1000");
+  EXPECT_EQ(errorOf("[ppo]\nlearning_rate = 2.0\n"), "run.toml:2: learning_rate, learning_rate_final, branch_learning_rate and adaptive_lr_max must be below 1");
+  EXPECT_EQ(errorOf("[ppo]\nbatch_size = 40960\n"),
+            "run.toml:2: buffer_size must be at most 10^7 and batch_size at most buffer_size");
 }
 
 TEST(PpoConfig, ToTomlRoundTripsEveryField) {
