@@ -137,7 +137,7 @@ constexpr int kMaxSettleWaitTicks = 300;
 /// switch_in_phase window from a skill with a phase prior, which waits until from's clock `phase` is within that
 /// fraction of its cycle. (The run taking over from the walk with W held fell within 3 s in 15 % of switches at
 /// random moments, nearly all of them made in the walk's phase 0.85-0.30 or 0.42-0.46; none in 0.50-0.82 over
-/// three seeds: assets/skills/run.train.md.)
+/// three seeds: docs/skills/run.md.)
 bool phaseAllowsSwitch(const SkillDef& from, const SkillDef& to, const PhaseClock& phase);
 
 /// Steering back toward a line as a player would (the crawl card's `steer`, training's `line_steer`): the line

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """crawl_prior_search.py — tune the crawl's key-pose prior with an evolution strategy, scored in physics.
 
-How the crawl's prior was found (assets/skills/crawl.train.md). The gait is described by 20 numbers (below):
+How the crawl's prior was found (docs/skills/crawl.md). The gait is described by 20 numbers (below):
 the hands-and-knees pose, the swing of the shoulders and hips, the tuck of one side at a time, the cycle's period,
 and the gains of the prior's `turn` (the joint offsets per rad/s of the yaw-rate command that the card's steering
 and play's steering turn it with). Each candidate is written into a copy of the skill tree, and scored by the crawl

@@ -77,7 +77,7 @@ class Trainer {
   /// count) as saved and the run's observations move them as slowly as at the end of the run that saved them; a
   /// branch (false) caps the count at kBranchNormalizerCount so its own observations take over within a few
   /// iterations. (A stairs fine-tune with the cap went from 435-tick training episodes to 129 in 15 iterations at a
-  /// KL of 0.01-0.02 per update, its inputs moving under it; with the weight kept, 400-640: stairs.train.md.)
+  /// KL of 0.01-0.02 per update, its inputs moving under it; with the weight kept, 400-640: docs/skills/stairs.md.)
   void initialiseFrom(const PolicyState& parent, float reinflateLogStd = std::numeric_limits<float>::quiet_NaN(),
                       bool fineTune = false);
 

@@ -145,7 +145,7 @@ double upright(const RewardContext& c) { return std::max(0.0, std::cos(c.sensors
 double stood(const RewardContext& c) { return robot::hasStoodUp(*c.sensors) ? 1.0 : 0.0; }
 double feetDown(const RewardContext& c) { return c.sensors->footContact[0] && c.sensors->footContact[1] ? 1.0 : 0.0; }
 // a foot on the ground across a step's edge (half on the tread, or its toe against the next riser): the blind
-// stairs' feet landed so and the robot sat back onto the steps (stairs.train.md)
+// stairs' feet landed so and the robot sat back onto the steps (docs/skills/stairs.md)
 double footEdge(const RewardContext& c) {
   if (!c.world) return 0.0;
   double n = 0.0;

@@ -93,7 +93,7 @@ TEST(CrawlCard, ThePriorAloneCrawlsForwardUnderTheCeilingAndStandingStillFails) 
   ai::SkillSpec crawl = *t.tree.find("crawl");
   ai::CardRun run = Tree::twoEpisodes(crawl, 3);
   run.card.as<ai::CrawlCard>()->distance = 1.5;  // 1.5 m within 6 s
-  crawl.randomisation.friction = {1.0, 1.0};  // the prior alone is friction-sensitive (crawl.train.md): at 1 it crawls
+  crawl.randomisation.friction = {1.0, 1.0};  // the prior alone is friction-sensitive (docs/skills/crawl.md): at 1 it crawls
   const ai::CardResult r = t.groundCard(crawl, run);
   EXPECT_EQ(figure(r, "lying face down when").value, 100.0);
   EXPECT_GT(figure(r, "mean progress along the tunnel").value, 1.0);
@@ -105,7 +105,7 @@ TEST(CrawlCard, ThePriorAloneCrawlsForwardUnderTheCeilingAndStandingStillFails) 
   EXPECT_FALSE(still.pass);
 }
 
-// a cycle twisted 0.05 rad at the waist turns the prior's crawl left (crawl.train.md: about 3 deg/s); the card's
+// a cycle twisted 0.05 rad at the waist turns the prior's crawl left (docs/skills/crawl.md: about 3 deg/s); the card's
 // steering, through the prior's turn term (the shipped one), turns it back toward the tunnel's axis as a player would
 TEST(CrawlCard, TheCardSteersATurningCrawlBackTowardTheAxis) {
   Tree t;

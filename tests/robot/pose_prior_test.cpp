@@ -112,7 +112,7 @@ TEST(PosePrior, JumpKeyPosesAloneJumpOnceAndLandUprightWhateverTheWaitBefore) {
   // physics, zero policy output, friction 1: after standing 0-4 s, the first 1.6 s cycle of key poses leaves the
   // ground with both feet once (a flight of >= 3 ticks) with the pelvis >= 0.10 m above its standing height (the
   // card's bar), and lands without tilting past 0.5 rad (the card's fall: 30 deg). Later jumps are the policy's:
-  // the prior alone falls at the second to fourth landing on some waits (the jump prior alone)
+  // the prior alone falls at the second to fourth landing on some waits (docs/skills/jump.md)
   const robot::RobotModel& model = fixtures::robotModel();
   const ai::TrainingTree& tree = shippedTree();
   const ai::SkillSpec& jump = *tree.find("jump");
