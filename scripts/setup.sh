@@ -11,7 +11,7 @@ packages=(
   libosmesa6-dev libpng-dev libstb-dev
   libtomlplusplus-dev libcli11-dev libonnx-dev libprotobuf-dev protobuf-compiler
   libgtest-dev libgmock-dev libbenchmark-dev
-  ffmpeg
+  ffmpeg clang-format python3-matplotlib
 )
 
 missing=()
