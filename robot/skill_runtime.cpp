@@ -1,6 +1,8 @@
 // skill_runtime.cpp — the control step and the switches (see skill_runtime.h).
 #include "robot/skill_runtime.h"
 
+#include "engine/core/error.h"
+
 #include "engine/input/command.h"
 
 namespace robot {
@@ -166,6 +168,18 @@ void enterSkill(SkillState* state, const Skill& next, const Sensors& sensors, in
 
 namespace {
 
+// Every number of the robot's state is finite (a diverged simulation shows NaN or inf here first)
+bool sensorsFinite(const Sensors& s) {
+  bool ok = s.basePosition.allFinite() && s.baseRotation.coeffs().allFinite() && s.linearVelocity.allFinite() &&
+            s.angularVelocity.allFinite() && s.centreOfMass.allFinite();
+  for (int j = 0; j < kNumJoints; ++j) ok = ok && std::isfinite(s.q[size_t(j)]) && std::isfinite(s.qd[size_t(j)]);
+  return ok;
+}
+
+}  // namespace
+
+namespace {
+
 // A ground skill that trained steered back toward the line it began on ([commands] line_steer: the crawl) is steered
 // so while it moves with no turn key, by the same law as its training and its card. A turn key takes over; once it is
 // released the line starts again where the robot is, the way it faces then.
@@ -246,6 +260,9 @@ SkillCommand observedCommand(const SkillState& state, const Sensors& sensors, co
 
 void observe(const RobotModel& nominal, const SkillState& state, const Sensors& sensors,
              const engine::PhysicsWorld& world, const SkillCommand& command, float* out) {
+  if (!sensorsFinite(sensors))
+    throw engine::Error("non-finite robot state under skill '" + state.active->def.name +
+                        "' (the simulation diverged: a policy, gain or model value out of range)");
   double s, c;
   phaseSignal(state.phase.tp, state.active->def.prior.halfPeriodTicks, &s, &c);
   Observation o;
@@ -256,6 +273,9 @@ void observe(const RobotModel& nominal, const SkillState& state, const Sensors& 
 void act(const RobotModel& model, SkillState* state, const float* policyOutput, const SkillCommand& command,
          bool waitsForStill, PdCommand* out) {
   const SkillDef& def = state->active->def;
+  for (int i = 0; i < kActionSize; ++i)
+    if (!std::isfinite(policyOutput[i]))
+      throw engine::Error("non-finite action from the policy of skill '" + def.name + "' (output " + std::to_string(i) + ")");
   filterAction(def, policyOutput, &state->action);
   // a request out of jumps in a row for a still skill waits in the cycle's closing stand rather than jump again
   if (!holdsClosingStand(def, state->phase, waitsForStill)) state->phase.advance(def.prior, command);

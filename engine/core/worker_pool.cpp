@@ -1,6 +1,8 @@
 // worker_pool.cpp — condition-variable pool with contiguous blocks per thread.
 #include "engine/core/worker_pool.h"
 
+#include <utility>
+
 namespace engine {
 
 WorkerPool::WorkerPool(int threads) {
@@ -32,10 +34,16 @@ void WorkerPool::parallelFor(int n, const std::function<void(int)>& fn) {
   start_.notify_all();
   // the caller takes block 0
   const int end = n / t + (0 < n % t ? 1 : 0);
-  for (int i = 0; i < end; ++i) fn(i);
+  try {
+    for (int i = 0; i < end; ++i) fn(i);
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!error_) error_ = std::current_exception();
+  }
   std::unique_lock<std::mutex> lock(mutex_);
   done_.wait(lock, [this] { return pending_ == 0; });
   job_ = nullptr;
+  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
 }
 
 void WorkerPool::workerLoop(int worker) {
@@ -54,9 +62,15 @@ void WorkerPool::workerLoop(int worker) {
     const int t = threads(), base = n / t, extra = n % t;
     const int begin = worker * base + std::min(worker, extra);
     const int end = begin + base + (worker < extra ? 1 : 0);
-    for (int i = begin; i < end; ++i) (*job)(i);
+    std::exception_ptr error;
+    try {
+      for (int i = begin; i < end; ++i) (*job)(i);
+    } catch (...) {
+      error = std::current_exception();
+    }
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      if (error && !error_) error_ = error;
       --pending_;
     }
     done_.notify_one();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -19,7 +20,9 @@ class WorkerPool {
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
-  /// Calls fn(i) for i in [0, n), split into contiguous blocks across the threads; returns when all are done.
+  /// Calls fn(i) for i in [0, n), split into contiguous blocks across the threads; returns when all are done. An
+  /// exception thrown by fn ends that thread's block; once every thread is done, the first one caught is rethrown
+  /// here, in the caller's thread.
   void parallelFor(int n, const std::function<void(int)>& fn);
 
   int threads() const { return int(workers_.size()) + 1; }
@@ -35,6 +38,7 @@ class WorkerPool {
   long generation_ = 0;
   int pending_ = 0;
   bool stop_ = false;
+  std::exception_ptr error_;  ///< the first exception of the current parallelFor
 };
 
 }  // namespace engine

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
+#include "engine/core/error.h"
 #include "tests/fixtures.h"
 
 namespace {
@@ -134,3 +136,31 @@ TEST(SkillRuntime, AReachedOrWithdrawnRequestClearsTheWaits) {
 }
 
 }  // namespace
+
+// a diverged policy or simulation is never a run that "stays up": the runtime stops it with an error, in play,
+// training and the cards alike (they all act and observe through it)
+TEST(SkillRuntime, ANonFiniteActionOrStateStopsTheStepWithAnError) {
+  robot::SkillSet set = shippedSet();
+  set.skills[0].policy = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
+    *a = Eigen::MatrixXf::Zero(robot::kActionSize, obs.cols());
+    (*a)(5, 0) = std::nanf("");
+  };
+  Stand stand;
+  const robot::RobotModel& model = fixtures::robotModel();
+  robot::SkillState state;
+  robot::enterSkill(&state, set.skills[0], stand.sensors, 0);
+  robot::PdCommand pd;
+  try {
+    robot::controlStep(model, model, &state, stand.sensors, stand.world, {}, false, &pd);
+    ADD_FAILURE() << "a NaN action was taken";
+  } catch (const engine::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("non-finite action from the policy of skill '" + set.skills[0].def.name +
+                                         "' (output 5)"),
+              std::string::npos)
+        << e.what();
+  }
+  robot::Sensors diverged = stand.sensors;
+  diverged.qd[3] = std::numeric_limits<double>::infinity();
+  Eigen::MatrixXf obs(robot::kObservationSize, 1);
+  EXPECT_THROW(robot::observe(model, state, diverged, stand.world, {}, obs.data()), engine::Error);
+}
