@@ -72,8 +72,8 @@ XmlIndex indexXml(const std::string& text, const std::string& file) {
     index.jointLine[n] = e->GetLineNum();
     if (auto* a = e->FirstChildElement("armature")) {
       double v = 0;
-      if (a->QueryDoubleAttribute("value", &v) != tinyxml2::XML_SUCCESS || !std::isfinite(v) || v < 0)
-        throw Error(located(file, a->GetLineNum(), "<armature value> must be a non-negative number"));
+      if (a->QueryDoubleAttribute("value", &v) != tinyxml2::XML_SUCCESS || !std::isfinite(v) || v < 0 || v > 10)
+        throw Error(located(file, a->GetLineNum(), "<armature value> must be a number in [0, 10] kg m^2"));
       index.armature[n] = v;
     }
   }
@@ -85,16 +85,21 @@ engine::LinkDef convertLink(const urdf::Link& link, const std::string& file, int
   def.name = link.name;
   if (!link.inertial) throw Error(located(file, line, "link '" + link.name + "' has no <inertial>"));
   const urdf::Inertial& in = *link.inertial;
-  if (!(in.mass > 0) || !std::isfinite(in.mass))
-    throw Error(located(file, line, "link '" + link.name + "' must have a positive mass"));
+  // a humanoid's link: anything far outside these bounds makes the solver diverge rather than simulate a robot
+  if (!(in.mass > 0) || !std::isfinite(in.mass) || in.mass > 1000)
+    throw Error(located(file, line, "link '" + link.name + "' must have a mass in (0, 1000] kg"));
   def.mass = in.mass;
   const Eigen::Isometry3d inPose = toIsometry(in.origin);
   def.com = inPose.translation();
+  if (!def.com.allFinite() || def.com.norm() > 10)
+    throw Error(located(file, line, "link '" + link.name + "': the inertial origin must lie within 10 m of the link"));
   Eigen::Matrix3d i;
   i << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   def.inertia = inPose.linear() * i * inPose.linear().transpose();
   if (!def.inertia.allFinite() || def.inertia.selfadjointView<Eigen::Lower>().eigenvalues().minCoeff() <= 0)
     throw Error(located(file, line, "link '" + link.name + "' inertia is not positive definite"));
+  if (def.inertia.selfadjointView<Eigen::Lower>().eigenvalues().maxCoeff() > 100)
+    throw Error(located(file, line, "link '" + link.name + "' inertia is above 100 kg m^2"));
   for (const auto& c : link.collision_array) {
     if (!c || !c->geometry) continue;
     engine::ColliderDef col;
@@ -129,8 +134,8 @@ engine::LinkDef convertLink(const urdf::Link& link, const std::string& file, int
 }
 
 double tomlNumber(const toml::node_view<const toml::node>& v, const std::string& file, int line, const std::string& what) {
-  if (auto d = v.value<double>()) return *d;
-  throw Error(located(file, line, what + " must be a number"));
+  if (auto d = v.value<double>(); d && std::isfinite(*d)) return *d;
+  throw Error(located(file, line, what + " must be a finite number"));
 }
 
 }  // namespace

@@ -96,6 +96,37 @@ TEST(RobotModel, NegativeMassIsRejected) {
   EXPECT_NE(errorOf(urdf), "");
 }
 
+// values no robot has make the solver diverge: refused at their line rather than simulated as NaN
+TEST(RobotModel, PhysicallyAbsurdValuesAreRefused) {
+  std::string heavy = shippedUrdf();
+  replaceOnce(&heavy, "<mass value=\"3.813\"/>", "<mass value=\"1e308\"/>");
+  EXPECT_NE(errorOf(heavy).find("must have a mass in (0, 1000] kg"), std::string::npos) << errorOf(heavy);
+  std::string spinning = shippedUrdf();
+  replaceOnce(&spinning, "<armature value=\"0.01017752\"/>", "<armature value=\"1e300\"/>");
+  EXPECT_NE(errorOf(spinning).find("<armature value> must be a number in [0, 10]"), std::string::npos) << errorOf(spinning);
+  std::string wide = shippedUrdf();
+  replaceOnce(&wide, "ixx=\"0.010549\"", "ixx=\"1e300\"");
+  EXPECT_NE(errorOf(wide), "");
+}
+
+TEST(RobotConfig, ANonFiniteGainOrDefaultIsRefusedWithItsLine) {
+  const std::string dir = testing::TempDir() + "/robot_cfg_nan";
+  engine::makeDirectories(dir);
+  engine::writeFileAtomic(dir + "/g1.urdf", shippedUrdf());
+  std::string cfg = engine::readFile(kSource + "/assets/robots/g1_23dof.toml");
+  replaceOnce(&cfg, "left_hip_pitch_joint       = { default = -0.1, kp = 500.0,",
+              "left_hip_pitch_joint       = { default = -0.1, kp = nan,");
+  replaceOnce(&cfg, "urdf = \"g1_23dof.urdf\"", "urdf = \"g1.urdf\"");
+  engine::writeFileAtomic(dir + "/g1.toml", cfg);
+  try {
+    robot::loadRobotModel(dir + "/g1.toml");
+    FAIL() << "accepted kp = nan";
+  } catch (const engine::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("g1.toml:15: left_hip_pitch_joint.kp must be a finite number"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(RobotModel, RandomBytesNeverCrash) {
   std::string urdf = shippedUrdf();
   uint32_t state = 12345;
