@@ -269,7 +269,10 @@ int cmdReplay(const ReplayArgs& a) {
 
   game::PlayOptions options;
   options.seed = replay.seed;
-  options.ticks = replay.ticks;
+  if (a.verify && replay.states.empty())
+    throw engine::Error(a.file + ": the recording holds no state hashes, so there is nothing to verify");
+  // --verify simulates up to the last recorded state: nothing after it can be compared
+  options.ticks = a.verify ? (replay.states.empty() ? 0 : std::min(replay.ticks, replay.states.back().tick)) : replay.ticks;
   options.events = replay.events;
   options.hashEvery = replay.hashEvery;
   options.skills = &skills;
@@ -288,7 +291,8 @@ int cmdReplay(const ReplayArgs& a) {
                 engine::toHex(r.hashes.back().hash).c_str());
     return kExitExpectationFailed;
   }
-  std::printf("identical: %zu state hashes over %lld ticks match\n", replay.states.size(), (long long)replay.ticks);
+  std::printf("identical: %zu state hashes over %lld ticks match (the recording is %lld ticks)\n", replay.states.size(),
+              (long long)options.ticks, (long long)replay.ticks);
   return 0;
 }
 

@@ -15,8 +15,8 @@ namespace engine {
 
 /// The only replay format version this build reads and writes.
 constexpr int kReplayVersion = 1;
-/// Largest recording length (ticks of 0.01 s): about 116 days.
-constexpr int64_t kMaxReplayTicks = 1000000000;
+/// Largest recording length (ticks of 0.01 s): 86400 s, play's own limit.
+constexpr int64_t kMaxReplayTicks = 8640000;
 /// Largest state-hash period (ticks).
 constexpr int kMaxReplayHashEvery = 1000000;
 /// Longest line in a replay file (characters, without the line break).

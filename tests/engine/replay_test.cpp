@@ -82,7 +82,7 @@ TEST(Replay, RoundTripsExactly) {
   edge.ticks = kMaxReplayTicks;
   edge.hashEvery = kMaxReplayHashEvery;
   edge.events = {{kMaxReplayTicks - 1, KeyAction::kTap, '9'}};
-  edge.states = {{0, 0}, {kMaxReplayTicks, UINT64_MAX}};
+  edge.states = {{0, 0}, {kMaxReplayTicks / kMaxReplayHashEvery * kMaxReplayHashEvery, UINT64_MAX}};
   EXPECT_EQ(parseReplay(serializeReplay(edge), "edge.replay"), edge);
 
   Replay empty;  // zero-length recording, no events, no states
@@ -228,8 +228,8 @@ TEST(Replay, EachStructuralErrorNamesItsLine) {
               "seed 18446744073709551616\n"),
        "r.replay:5: seed '18446744073709551616' out of range"},
       {sealed("treelearn-replay 1\nlevel a 0123456789abcdef\nrobot 00000000000000aa\nskills 00000000000000bb\n"
-              "seed 1\nticks 1000000001\n"),
-       "r.replay:6: ticks '1000000001' out of range (0..1000000000)"},
+              "seed 1\nticks 8640001\n"),
+       "r.replay:6: ticks '8640001' out of range (0..8640000)"},
       {sealed("treelearn-replay 1\nlevel a 0123456789abcdef\nrobot 00000000000000aa\nskills 00000000000000bb\n"
               "seed 1\nticks 10\nhash_every 0\n"),
        "r.replay:7: hash_every '0' out of range (1..1000000)"},
