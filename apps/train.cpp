@@ -25,8 +25,11 @@ namespace {
 
 ai::Trainer* gTrainer = nullptr;  // apps/ only: lets Ctrl-C stop training cleanly with a checkpoint
 
+// the first Ctrl-C asks for a stop at the end of the iteration (a checkpoint, no export); a second one ends the
+// process at once, which leaves the last checkpoint whole (it is written atomically)
 void onSigint(int) {
   if (gTrainer) gTrainer->requestStop();
+  std::signal(SIGINT, SIG_DFL);
 }
 
 void printLine(const std::string& line) {
@@ -61,6 +64,7 @@ int runTrain(const TrainOptions& o) {
     gTrainer = t;
     std::signal(SIGINT, t ? onSigint : SIG_DFL);
   });
+  if (r.stopped) return 130;  // stopped by Ctrl-C (128 + SIGINT, as a shell reports it)
   if (o.resume && r.iterationsRun == 0)
     std::fprintf(stderr, "note: the checkpoint in %s is already at %lld env steps (iteration %lld), at or past --steps %lld: "
                  "nothing was trained; give a larger --steps to go on\n", r.runDir.c_str(), (long long)r.envSteps,

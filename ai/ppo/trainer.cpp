@@ -286,6 +286,7 @@ void Trainer::run() {
   const Clock::time_point start = Clock::now();
   int64_t stepsThisProcess = 0;
   stopRequested_ = false;
+  stoppedEarly_ = false;
 
   while (envSteps_ < options_.totalSteps) {
     const Clock::time_point iterationStart = Clock::now();
@@ -354,6 +355,7 @@ void Trainer::run() {
     if (options_.onIteration) options_.onIteration(p);
     if (stopRequested_ && !last) {
       if (!stop) writeCheckpoint(checkpointPath);
+      stoppedEarly_ = true;
       break;
     }
   }

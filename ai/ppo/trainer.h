@@ -87,6 +87,8 @@ class Trainer {
 
   /// Asks run() to stop after the current iteration (checkpoint saved). Safe from onIteration or a signal handler.
   void requestStop() { stopRequested_ = true; }
+  /// True when the last run() ended on a stop request before its steps were done (its checkpoint is written).
+  bool stoppedEarly() const { return stoppedEarly_; }
 
   /// The current policy.
   const PolicyState& policy() const { return policy_; }
@@ -127,6 +129,7 @@ class Trainer {
   int64_t envSteps_ = 0;
   double bestScore_ = -std::numeric_limits<double>::infinity();
   std::atomic<bool> stopRequested_{false};
+  bool stoppedEarly_ = false;
 
   // rollout scratch, reused every step
   StepResult step_;

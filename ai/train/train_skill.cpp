@@ -206,6 +206,11 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   if (onTrainer) onTrainer(&trainer);
   trainer.run();
   if (onTrainer) onTrainer(nullptr);
+  if (trainer.stoppedEarly()) {  // a stop request: the checkpoint goes on with --resume; a half-trained run exports nothing
+    say(log, "stopped at iteration %lld (%lld env steps): checkpoint %s/checkpoint.bin, go on with --resume; nothing "
+        "exported\n", (long long)trainer.iteration(), (long long)trainer.envSteps(), runDir.c_str());
+    return {runDir, iterationsRun, trainer.iteration(), trainer.envSteps(), steps, true};
+  }
 
   // export the best-by-evaluation policy if there is one, else the final one
   const std::string best = runDir + "/best.bin";

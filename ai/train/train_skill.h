@@ -46,6 +46,7 @@ struct TrainSkillResult {
   int64_t iterationsRun = 0;  ///< in this call (a resumed run at or past its steps runs none)
   int64_t iteration = 0, envSteps = 0;  ///< where the run stands now
   int64_t steps = 0;                    ///< the steps it was asked to reach
+  bool stopped = false;                 ///< stopped on request before its steps: checkpointed, nothing exported
 };
 
 /// Trains the skill and exports its best-by-evaluation policy (else the final one) into the run folder.
