@@ -12,6 +12,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev libonnx-dev libprotobuf-dev protobuf-compiler
   libgtest-dev libgmock-dev libbenchmark-dev
   ffmpeg
+  python3-matplotlib
 )
 
 missing=()
