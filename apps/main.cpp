@@ -17,6 +17,7 @@
 #include "engine/core/hash.h"
 #include "engine/loop/clock.h"
 #include "engine/render/frame_output.h"
+#include "game/garden_pilot.h"
 #include "game/play.h"
 #include "levels/level.h"
 #include "levels/variant.h"
@@ -47,6 +48,32 @@ std::string resolveKeys(const std::string& keys, const levels::Level& level) {
   return keys;  // readFile reports it missing
 }
 
+// the garden pilot's lines: targets, stuck recoveries, falls, distance and speed, and each skill's share of the time
+std::string gardenSummaryText(const game::PlayResult& r) {
+  const game::GardenReport& g = r.garden;
+  if (!g.played) return "";
+  const double seconds = double(r.ticks) * engine::kTickSeconds;
+  std::ostringstream s;
+  char line[512];
+  std::snprintf(line, sizeof line, "targets    %d reached of %d given; stuck recoveries %d; falls %d; no path %d; replans %d\n",
+                g.targetsReached, g.targetsGiven, g.stuck, r.telemetry.falls, g.noPath, g.replans);
+  s << line;
+  std::snprintf(line, sizeof line, "travelled  %.1f m in %.1f s, mean speed %.2f m/s\n", r.telemetry.distance, seconds,
+                seconds > 0 ? r.telemetry.distance / seconds : 0.0);
+  s << line;
+  int64_t ticks = 0;
+  for (const auto& [name, st] : g.skills) ticks += st.ticks;
+  for (const auto& [name, st] : g.skills) {
+    std::snprintf(line, sizeof line,
+                  "gait       %-7s %5.1f %% of the time (%.1f s), %.1f m, largest roll %.1f deg, pitch %.1f deg\n",
+                  name.c_str(), ticks ? 100.0 * double(st.ticks) / double(ticks) : 0.0,
+                  double(st.ticks) * engine::kTickSeconds, st.distance, st.maxRoll * 180.0 / M_PI,
+                  st.maxPitch * 180.0 / M_PI);
+    s << line;
+  }
+  return s.str();
+}
+
 std::string summaryText(const levels::Level& level, const game::PlayResult& r, uint64_t seed, const char* outcome) {
   const game::Telemetry& t = r.telemetry;
   const double simSeconds = double(r.ticks) * engine::kTickSeconds;
@@ -59,7 +86,7 @@ std::string summaryText(const levels::Level& level, const game::PlayResult& r, u
   std::snprintf(line, sizeof line, "time       %.2f s simulated in %.2f s wall (%.1fx real time)\n", simSeconds,
                 r.wallSeconds, r.wallSeconds > 0 ? simSeconds / r.wallSeconds : 0.0);
   s << line;
-  if (level.isGame()) {
+  if (level.isGame() || !level.coins.empty()) {
     std::snprintf(line, sizeof line, "score      %d (coins %d, gifts %d)\n", r.score, r.coins, r.gifts);
     s << line;
   } else {
@@ -110,6 +137,7 @@ std::string summaryText(const levels::Level& level, const game::PlayResult& r, u
     std::snprintf(line, sizeof line, "event      %7.2f s  %s\n", double(e.tick) * engine::kTickSeconds, e.what.c_str());
     s << line;
   }
+  s << gardenSummaryText(r);
   return s.str();
 }
 
@@ -134,7 +162,7 @@ game::PlayResult runWithOutput(const levels::Level& level, const robot::RobotMod
 }
 
 struct PlayArgs {
-  std::string level, keys, record, expect, summary, log;
+  std::string level, keys, record, expect, summary, log, targets;
   double seconds = -1;
   uint64_t seed = 1;
   bool seedGiven = false;  // --seed on the command line (it overrides a key script's seed line)
@@ -153,8 +181,11 @@ int cmdPlay(const PlayArgs& a) {
   for (const std::string* f : {&a.record, &a.summary, &a.log, &a.out.videoPath}) makeParentDirectory(*f);
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   const robot::SkillSet skills = apps::loadSkills(model);
-  if (a.autopilot && !level.isGame())
-    throw engine::Error(level.path + ": --autopilot plays game levels (a level with [rules] and a goal)");
+  if (a.autopilot && !level.isGame() && !game::isMapLevel(level))
+    throw engine::Error(level.path + ": --autopilot plays game levels (a level with [rules] and a goal) and maps "
+                                     "(plane = \"top\")");
+  if (!a.targets.empty() && !(a.autopilot && game::isMapLevel(level)))
+    throw engine::Error("--targets gives the garden pilot its targets: it needs --autopilot on a map level (plane = \"top\")");
   if (a.autopilot && !a.keys.empty()) throw engine::Error("--autopilot and --keys exclude each other");
   if (!a.expect.empty() && a.expect != "alive" && a.expect != "win")
     throw engine::Error("--expect must be 'alive' or 'win', not '" + a.expect + "'");
@@ -165,6 +196,7 @@ int cmdPlay(const PlayArgs& a) {
   options.seed = a.seed;
   options.skills = &skills;
   options.autopilot = a.autopilot;
+  if (!a.targets.empty()) options.targets = game::parseTargets(engine::readFile(a.targets), a.targets);
   if (!a.keys.empty()) {
     const std::string path = resolveKeys(a.keys, level);
     const engine::KeyScript script = engine::parseKeyScriptWithSeed(engine::readFile(path), path);
@@ -178,6 +210,7 @@ int cmdPlay(const PlayArgs& a) {
   double seconds = a.seconds;
   if (seconds < 0) seconds = options.events.empty() ? 10.0 : double(options.events.back().tick) * engine::kTickSeconds + 2.0;
   if (a.seconds < 0 && level.isGame()) seconds = level.timeLimit > 0 ? level.timeLimit + 0.5 : 600.0;  // until it ends
+  if (a.seconds < 0 && a.autopilot && game::isMapLevel(level)) seconds = 240.0;  // the paper's garden run
   if (!(seconds > 0) || seconds > 86400) throw engine::Error("--seconds must be in (0, 86400]");
   options.ticks = engine::secondsToTicks(seconds);
   if (!options.events.empty() && options.events.back().tick >= options.ticks)
@@ -197,12 +230,33 @@ int cmdPlay(const PlayArgs& a) {
   std::fputs(summary.c_str(), stdout);
   if (!a.summary.empty()) engine::writeFileAtomic(a.summary, summary);
   if (!a.log.empty()) {
-    std::string csv = "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s,com_y_m,yaw_rad,com_left_of_feet_m\n";
-    char row[160];
-    for (const game::ComSample& c : r.comLog) {
-      std::snprintf(row, sizeof row, "%.2f,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", c.t, c.skill.c_str(), c.x, c.z, c.vx, c.y, c.yaw,
+    std::string csv = "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s,com_y_m,yaw_rad,com_left_of_feet_m";
+    // a garden run adds the pilot's columns (the same 50 Hz rows)
+    const std::vector<game::GardenSample>& g = r.garden.samples;
+    const bool garden = r.garden.played && g.size() == r.comLog.size();
+    if (garden)
+      csv += ",pelvis_x_m,pelvis_y_m,pelvis_z_m,vel_x_m_per_s,vel_y_m_per_s,vr_m_per_s,wr_rad_per_s,nav_vr_m_per_s,"
+             "nav_wr_rad_per_s,target,target_x_m,target_y_m,target_distance_m,target_angle_rad,obstacle_factor,roll_rad,"
+             "pitch_rad,mode,events";
+    csv += "\n";
+    char row[512];
+    for (size_t i = 0; i < r.comLog.size(); ++i) {
+      const game::ComSample& c = r.comLog[i];
+      std::snprintf(row, sizeof row, "%.2f,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f", c.t, c.skill.c_str(), c.x, c.z, c.vx, c.y, c.yaw,
                     c.leftOfFeet);
       csv += row;
+      if (garden) {
+        const game::GardenSample& m = g[i];
+        const Eigen::Vector2d t = m.target >= 0 && m.target < int(r.garden.targets.size())
+                                      ? r.garden.targets[size_t(m.target)]
+                                      : Eigen::Vector2d(NAN, NAN);
+        std::snprintf(row, sizeof row,
+                      ",%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%d,%.3f,%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s", m.x, m.y,
+                      m.z, m.vx, m.vy, m.vr, m.wr, m.navVr, m.navWr, m.target, t.x(), t.y(), m.targetDistance,
+                      m.targetAngle, m.obstacleFactor, m.roll, m.pitch, m.mode.c_str(), m.events.c_str());
+        csv += row;
+      }
+      csv += "\n";
     }
     engine::writeFileAtomic(a.log, csv);
   }
@@ -337,13 +391,14 @@ int main(int argc, char** argv) {
   CLI::App* playCmd = app.add_subcommand("play", "Play a level headless and print a summary");
   playCmd->add_option("level", play.level, "Level folder (holding level.toml) or .toml file")->required();
   playCmd->add_option("--keys", play.keys, "Keyboard script (a path, or a file name inside the level folder)");
-  playCmd->add_flag("--autopilot", play.autopilot, "Let the autopilot play a game level from what the robot perceives (not with --keys)");
+  playCmd->add_flag("--autopilot", play.autopilot, "Let the autopilot play a game level from what the robot perceives (not with --keys); on a map (plane = top, e.g. levels/garden) the garden pilot walks to targets drawn from --seed");
+  playCmd->add_option("--targets", play.targets, "The garden pilot's targets instead of random ones: a file with one 'x y' line (metres) per target, '#' comments");
   playCmd->add_option("--seconds", play.seconds, "Simulated seconds (default: script end + 2 s, or 10 s)")
       ->check(CLI::Range(0.01, 86400.0));
   playCmd->add_option("--seed", play.seed, "Random seed (default: the key script's seed line, else 1)");
   playCmd->add_option("--record", play.record, "Write a replay file");
   playCmd->add_option("--summary", play.summary, "Also write the summary to this file");
-  playCmd->add_option("--log", play.log, "Write the centre of mass at 50 Hz to a CSV file (time, skill, x, height, forward speed, y, heading, offset left of the feet)");
+  playCmd->add_option("--log", play.log, "Write the centre of mass at 50 Hz to a CSV file (time, skill, x, height, forward speed, y, heading, offset left of the feet; a garden run adds pelvis, velocity, commands, target, obstacle factor, roll, pitch, events)");
   playCmd->add_option("--expect", play.expect, "Exit 1 unless this holds: alive (no fall) or win")
       ->check(CLI::IsMember({"alive", "win"}));
   addOutputOptions(playCmd, &play.out);

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "engine/loop/clock.h"
+#include "engine/plane/plane_tags.h"
 
 namespace game {
 namespace {
@@ -27,7 +28,8 @@ double smooth(double t) { return t <= 0 ? 0 : t >= 1 ? 1 : t * t * (3 - 2 * t); 
 }  // namespace
 
 Course::Course(const levels::Level& level, engine::PhysicsWorld& physics, engine::PlaneWorld& plane)
-    : rules_(level.rules), timeLimit_(level.timeLimit), goals_(level.goals), checkpointX_(level.spawn.x()) {
+    : rules_(level.rules), timeLimit_(level.isGame() ? level.timeLimit : 0.0), goals_(level.goals),
+      checkpointX_(level.spawn.x()) {
   for (const levels::CoinDef& c : level.coins) {
     Collectable item;
     item.position = c.centre;
@@ -46,7 +48,11 @@ Course::Course(const levels::Level& level, engine::PhysicsWorld& physics, engine
     engine::BallDef def;
     def.radius = b.radius;
     def.mass = b.mass;
-    balls_.push_back({physics.addBall(def, Eigen::Vector3d(b.position.x(), b.position.y(), b.radius)), b.radius});
+    Ball ball{physics.addBall(def, Eigen::Vector3d(b.position.x(), b.position.y(), b.radius)), b.radius};
+    // a map's 2D layer shows each ball as a moving circle (engine::isMovableTag), so the navigation sees it
+    if (level.plane == levels::Plane2d::Top)
+      ball.mirror = plane.addKinematicCircle(b.position, b.radius, engine::kMovableTagBase + int(balls_.size()));
+    balls_.push_back(ball);
   }
 }
 
@@ -60,6 +66,11 @@ void Course::finish(int64_t tick, Outcome outcome, const std::string& reason) {
 
 void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vector<BodyPoint>& body,
                     engine::PhysicsWorld& physics, engine::PlaneWorld& plane) {
+  for (const Ball& b : balls_)  // the 2D layer's circles follow the balls (before anything can end the run)
+    if (b.mirror >= 0) {
+      const Eigen::Vector3d p = physics.ballState(b.id).position;
+      plane.setPosition(b.mirror, p.head<2>());
+    }
   if (outcome_ != Outcome::Playing) return;
   const double t = double(tick) * engine::kTickSeconds;
   const Eigen::Vector3d pelvis = sensors.basePosition;
@@ -171,6 +182,10 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
 bool Course::onFall(int64_t tick) {
   if (outcome_ != Outcome::Playing) return false;
   ++falls_;
+  if (!rules_.present) {  // a map without rules (the garden): the fall is counted, nothing puts the robot back
+    log(tick, CourseEventKind::Fell, "fell");
+    return false;
+  }
   if (rules_.falls == levels::FallRule::Lose) {
     finish(tick, Outcome::Lost, "fell");
     return false;

@@ -1,4 +1,5 @@
-// course.h — the rules and entities of a game level (a level with [rules]): coins, question boxes and what
+// course.h — the rules and entities of a game level (a level with [rules]; also a map's coins and balls): coins,
+// question boxes and what
 // they release, ghosts, balls, goals, checkpoints, the time limit, score, and winning or losing. The Session
 // owns one and calls it once per tick after physics; it never moves the robot itself (a respawn is the
 // Session's, on the Course's word).
@@ -101,6 +102,7 @@ class Course {
   struct Ball {
     engine::BallId id = -1;
     double radius = 0.11;
+    int mirror = -1;  // its kinematic circle in a top plane's 2D layer (-1: none)
   };
 
   void finish(int64_t tick, Outcome outcome, const std::string& reason);

@@ -3,10 +3,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <memory>
 
 #include "engine/input/input_timeline.h"
 #include "engine/loop/clock.h"
 #include "game/autopilot.h"
+#include "game/garden_pilot.h"
 
 namespace game {
 
@@ -19,16 +22,55 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
 
   if (options.frameEvery > 0 && options.onFrame) options.onFrame(session.snapshot(options.camera));
   Autopilot autopilot(options.skills ? skillKeys(*options.skills) : SkillKeys{});
+  std::unique_ptr<GardenPilot> garden;
+  if (options.autopilot && isMapLevel(level))
+    garden = std::make_unique<GardenPilot>(session.plane(), options.skills ? skillKeys(*options.skills) : SkillKeys{},
+                                           options.seed, options.targets);
+  std::string gardenEvents;  // since the last 50 Hz sample
   std::vector<double> comX;  // per tick, for the switch reports
   while (session.tick() < options.ticks) {
     std::vector<engine::KeyEvent> events = timeline.eventsAt(session.tick());
-    if (options.autopilot) {
+    if (garden) {
+      const std::vector<engine::KeyEvent> own = garden->decide(session.tick(), session);
+      events.insert(events.end(), own.begin(), own.end());
+      const std::string& e = garden->last().events;
+      if (!e.empty()) gardenEvents += (gardenEvents.empty() ? "" : "+") + e;
+    } else if (options.autopilot) {
       const std::vector<engine::KeyEvent> own = autopilot.decide(session.tick(), senseCues(session));
       events.insert(events.end(), own.begin(), own.end());
     }
+    const Eigen::Vector3d before = session.sensors().basePosition;
     result.keyEvents.insert(result.keyEvents.end(), events.begin(), events.end());
     session.step(events);
     const int64_t done = session.tick();  // ticks completed
+    if (garden) {
+      const robot::Sensors& sensed = session.sensors();
+      GardenSkillStats& st = result.garden.skills[session.activeSkillName()];
+      ++st.ticks;
+      st.distance += (sensed.basePosition - before).head<2>().norm();
+      st.maxRoll = std::max(st.maxRoll, std::abs(sensed.roll));
+      st.maxPitch = std::max(st.maxPitch, std::abs(sensed.pitch));
+      if (session.fallen() && gardenEvents.find("fell") == std::string::npos)
+        gardenEvents += (gardenEvents.empty() ? "" : "+") + std::string("fell");
+      if (done % 2 == 0) {
+        const GardenTick& g = garden->last();
+        GardenSample m;
+        m.t = double(done) * engine::kTickSeconds;
+        m.x = sensed.basePosition.x(), m.y = sensed.basePosition.y(), m.z = sensed.basePosition.z();
+        const Eigen::Vector3d v = sensed.baseRotation * sensed.linearVelocity;
+        m.vx = v.x(), m.vy = v.y();
+        m.vr = session.command().vx, m.wr = session.command().wz;
+        m.navVr = g.navVr, m.navWr = g.navWr;
+        m.target = g.target, m.targetDistance = g.targetDistance, m.targetAngle = g.targetAngle;
+        m.obstacleFactor = g.obstacleFactor;
+        m.skill = session.activeSkillName();
+        m.roll = sensed.roll, m.pitch = sensed.pitch, m.yaw = sensed.yaw;
+        m.mode = GardenKeys::modeName(g.mode);
+        m.events = gardenEvents;
+        gardenEvents.clear();
+        result.garden.samples.push_back(std::move(m));
+      }
+    }
     const Eigen::Vector3d com = session.sensors().centreOfMass;
     comX.push_back(com.x());
     if (done % 2 == 0) {
@@ -54,8 +96,15 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     }
     if (options.frameEvery > 0 && options.onFrame && done % options.frameEvery == 0)
       options.onFrame(session.snapshot(options.camera));
-    if (options.stopOnFall && session.fallen()) break;
+    if ((options.stopOnFall || garden) && session.fallen()) break;  // nothing puts a robot back up in a map
     if (session.outcome() != Outcome::Playing) break;
+  }
+  if (garden) {
+    const GardenTally& t = garden->tally();
+    result.garden.played = true;
+    result.garden.targetsGiven = t.given, result.garden.targetsReached = t.reached, result.garden.stuck = t.stuck;
+    result.garden.noPath = t.noPath, result.garden.replans = t.replans;
+    result.garden.targets = t.targets;
   }
   result.ticks = session.tick();
   result.fallen = session.fallen();
@@ -107,5 +156,7 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
   result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
+
+bool isMapLevel(const levels::Level& level) { return level.plane == levels::Plane2d::Top && !level.isGame(); }
 
 }  // namespace game

@@ -5,6 +5,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "engine/input/key_script.h"
@@ -25,7 +27,37 @@ struct PlayOptions {
   std::function<void(const engine::SceneSnapshot&)> onFrame;
   bool stopOnFall = false;                  ///< end the run at the first fall
   const robot::SkillSet* skills = nullptr;         ///< learned skills, or none
-  bool autopilot = false;                   ///< the autopilot presses the keys (after any scripted events)
+  bool autopilot = false;                   ///< the autopilot presses the keys (after any scripted events); on a
+                                            ///< map (plane = top, no [rules]) the garden pilot (game/garden_pilot.h)
+  std::vector<Eigen::Vector2d> targets;     ///< the garden pilot's targets in order (empty: drawn from the seed)
+};
+
+/// The garden pilot's run (a map level played with autopilot), at 50 Hz and in total.
+struct GardenSample {
+  double t = 0;
+  double x = 0, y = 0, z = 0;    ///< pelvis [m]
+  double vx = 0, vy = 0;         ///< pelvis velocity, world [m/s]
+  double vr = 0, wr = 0;         ///< the keys' command the robot follows (forward [m/s], yaw rate [rad/s])
+  double navVr = 0, navWr = 0;   ///< the navigation's own command (its speed-turn interlock), for comparison
+  int target = -1;
+  double targetDistance = 0, targetAngle = 0;
+  double obstacleFactor = 1;
+  std::string skill;
+  double roll = 0, pitch = 0, yaw = 0;  ///< pelvis [rad]
+  std::string mode;              ///< the key scheme's mode (stop, turn, go, back)
+  std::string events;            ///< what happened since the last sample ('+'-joined)
+};
+struct GardenSkillStats {
+  int64_t ticks = 0;
+  double distance = 0;           ///< pelvis path length while it was in control [m]
+  double maxRoll = 0, maxPitch = 0;  ///< largest |roll|, |pitch| [rad]
+};
+struct GardenReport {
+  bool played = false;
+  int targetsGiven = 0, targetsReached = 0, stuck = 0, noPath = 0, replans = 0;
+  std::vector<Eigen::Vector2d> targets;
+  std::map<std::string, GardenSkillStats> skills;  ///< by the skill in control ("stand": none)
+  std::vector<GardenSample> samples;
 };
 
 /// How the motion carried through one skill switch (forward = world +X, centre of mass, 0.1 s moving average).
@@ -64,7 +96,11 @@ struct PlayResult {
   std::vector<engine::KeyEvent> keyEvents;  ///< every key event applied (script and autopilot), for replays
   std::vector<SwitchReport> switchReports;  ///< one per skill switch between two learned skills
   std::vector<ComSample> comLog;            ///< 50 Hz centre-of-mass samples
+  GardenReport garden;                      ///< the garden pilot's run (PlayOptions::autopilot on a map)
 };
+
+/// A map level (plane = top, no [rules]): the autopilot there is the garden pilot.
+bool isMapLevel(const levels::Level& level);
 
 /// Plays level with model for options.ticks ticks.
 PlayResult play(const levels::Level& level, const robot::RobotModel& model, const PlayOptions& options);

@@ -7,6 +7,7 @@
 
 #include "engine/core/hash.h"
 #include "engine/loop/clock.h"
+#include "engine/plane/plane_tags.h"
 #include "game/components.h"
 
 namespace game {
@@ -39,8 +40,12 @@ Session::Session(const levels::Level& level, const robot::RobotModel& model, con
     // a see-through wall runs along the course beside it: in the side plane it would cover everything
     if (level.plane == levels::Plane2d::Side && !b.seeThrough)
       plane_.addStaticRect({b.centre.x(), b.centre.z()}, {0.5 * b.size.x(), 0.5 * b.size.z()}, 0.0, int(i));
+    // in a map (the top plane) a staircase's steps carry the stairs tag (a flight along +X: engine/plane/plane_tags.h),
+    // so that the navigation crosses them only along their axis; the side plane keeps the box index (the course's
+    // autopilot sees steps by their shape)
     else if (level.plane == levels::Plane2d::Top)
-      plane_.addStaticRect({b.centre.x(), b.centre.y()}, {0.5 * b.size.x(), 0.5 * b.size.y()}, b.yaw, int(i));
+      plane_.addStaticRect({b.centre.x(), b.centre.y()}, {0.5 * b.size.x(), 0.5 * b.size.y()}, b.yaw,
+                           b.stairs ? engine::stairTag(b.yaw) : int(i));
   }
 
   // the robot at the spawn point, joints jittered around the default pose by the seed
@@ -48,7 +53,8 @@ Session::Session(const levels::Level& level, const robot::RobotModel& model, con
   registry_.add(registry_.create(), RobotTag{kRobotColour});
   robot_->teleport(physics_, robot_->linkPose(physics_, -1), jitteredStandingPose());
   sensors_ = robot_->sense(physics_);
-  if (level.isGame()) course_ = std::make_unique<Course>(level, physics_, plane_);
+  if (level.isGame() || !level.coins.empty() || !level.balls.empty())
+    course_ = std::make_unique<Course>(level, physics_, plane_);
 }
 
 std::vector<BodyPoint> Session::bodyPoints() const {

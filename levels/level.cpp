@@ -310,9 +310,15 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
   }
   if (level.isGame() && level.goals.empty())
     throw Error(located(fileName, r.line(*root.get("rules")), "a level with [rules] needs a [[goal]] (nothing to win)"));
-  if (!level.isGame() && (!level.ghosts.empty() || !level.coins.empty() || !level.questionBoxes.empty() ||
-                          !level.balls.empty() || !level.goals.empty()))
-    throw Error(located(fileName, 1, "ghosts, coins, question boxes, balls and goals need a [rules] table"));
+  // a map (plane = "top") without rules may have coins to collect and balls lying about; everything else of a game
+  // (ghosts chasing along +X, question boxes hit from below, goals to win) belongs to the side-view games
+  const bool mapExtras = level.plane == Plane2d::Top && level.ghosts.empty() && level.questionBoxes.empty() &&
+                         level.goals.empty();
+  if (!level.isGame() && !mapExtras && (!level.ghosts.empty() || !level.coins.empty() || !level.questionBoxes.empty() ||
+                                        !level.balls.empty() || !level.goals.empty()))
+    throw Error(located(fileName, 1,
+                        "ghosts, question boxes and goals need a [rules] table (and so do coins and balls in a "
+                        "plane = \"side\" level)"));
 
   // nothing may sit inside a solid box: axis-aligned overlap, ignoring box yaw (the course is axis-aligned)
   auto inside = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& half, int line, const std::string& what) {
@@ -381,6 +387,7 @@ std::vector<BoxDef> expandStairs(const StairsDef& d) {
     b.centre = Eigen::Vector3d(x0 + 0.5 * length, d.start.y(), 0.5 * h);
     b.size = Eigen::Vector3d(length, d.width, h);
     b.rgba = d.rgba;
+    b.stairs = true;
     boxes.push_back(std::move(b));
   };
   for (int i = 1; i <= d.steps; ++i, x += d.run) column(d.name + "_up" + std::to_string(i), x, i == d.steps ? d.top : d.run, i * d.rise);

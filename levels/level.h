@@ -21,6 +21,7 @@ struct BoxDef {
   uint32_t rgba = 0x9a7b5aff;
   double friction = 1.0;
   bool seeThrough = false;  ///< a [[wall]]: collides like any box, drawn translucent
+  bool stairs = false;      ///< a step of a [[stairs]] (a top-plane level's 2D layer tags it as a staircase along +X)
   int line = 0;  ///< where it was defined
 };
 

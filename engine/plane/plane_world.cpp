@@ -110,4 +110,24 @@ void PlaneWorld::step(double dt) { impl_->world.Step(float(dt), 8, 3); }
 
 int PlaneWorld::bodyCount() const { return static_cast<int>(impl_->bodies.size()); }
 
+bool PlaneWorld::staticBounds(Eigen::Vector2d* lo, Eigen::Vector2d* hi) const {
+  bool any = false;
+  b2AABB all;
+  for (const b2Body* body : impl_->bodies) {
+    if (body->GetType() != b2_staticBody) continue;
+    for (const b2Fixture* f = body->GetFixtureList(); f; f = f->GetNext()) {
+      for (int child = 0; child < f->GetShape()->GetChildCount(); ++child) {
+        b2AABB box;
+        f->GetShape()->ComputeAABB(&box, body->GetTransform(), child);
+        if (any) all.Combine(box);
+        else all = box, any = true;
+      }
+    }
+  }
+  if (!any) return false;
+  *lo = Eigen::Vector2d(all.lowerBound.x, all.lowerBound.y);
+  *hi = Eigen::Vector2d(all.upperBound.x, all.upperBound.y);
+  return true;
+}
+
 }  // namespace engine

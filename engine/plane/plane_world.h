@@ -52,6 +52,10 @@ class PlaneWorld {
   /// Number of bodies.
   int bodyCount() const;
 
+  /// The bounding box of every static body's shape (lower-left in *lo, upper-right in *hi) [m]; false (and the
+  /// outputs untouched) when there is none. A map of the layer (the garden's navigation) covers this rectangle.
+  bool staticBounds(Eigen::Vector2d* lo, Eigen::Vector2d* hi) const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -134,7 +134,7 @@ NavOutput Navigator::step(const engine::PlaneWorld& plane, const NavInput& in, d
     if (remaining < bestRemaining_ - params_.stuckProgress) {
       bestRemaining_ = remaining;
       noProgressTime_ = 0;
-    } else if (!out.follow.turningInPlace && !out.follow.squaringUp) {
+    } else if (in.forward && !out.follow.turningInPlace && !out.follow.squaringUp) {
       noProgressTime_ += dt;
     }
     if (noProgressTime_ >= params_.stuckSeconds - kTimeEpsilon) {

@@ -56,6 +56,9 @@ struct NavInput {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  ///< pelvis (x, y) [m]
   double yaw = 0;                                      ///< heading [rad], 0 = +X
   double speed = 0;                                    ///< forward speed along the heading [m/s]
+  /// the robot is being driven forward; a pilot that stops and turns in place between legs (the garden's keys)
+  /// passes false meanwhile, and the stuck clock counts only the time it is true
+  bool forward = true;
 };
 
 /// What happened in one step.

@@ -1,0 +1,367 @@
+// garden_pilot.cpp — see garden_pilot.h.
+#include "game/garden_pilot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "engine/core/error.h"
+#include "engine/loop/clock.h"
+#include "engine/plane/plane_tags.h"
+#include "engine/plane/plane_world.h"
+#include "game/session.h"
+
+namespace game {
+namespace {
+
+constexpr double kStairsEntryBefore = 0.4;  // the stairs leg starts this far before the path's first stair cell [m]
+constexpr double kStairsEntryReach = 0.5;   // a robot this close to the entry (or past it) takes the stairs leg [m]
+constexpr double kStairsExitAfter = 0.3;    // the stairs leg ends this far past the last stair cell [m]
+constexpr double kSkipWaypoint = 0.3;       // a waypoint closer than this along the path is passed [m]
+constexpr double kMovableLook = 0.8;        // a movable body this close ahead of the pelvis stops Go [m]
+constexpr double kMovableHalfWidth = 0.25;  // ... across the body's core (the follower's obstacleHalfWidth) [m]
+
+// a double in [0, 1) from 53 random bits (portable, unlike std::uniform_real_distribution)
+double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+
+}  // namespace
+
+std::vector<Eigen::Vector2d> parseTargets(const std::string& text, const std::string& fileName) {
+  std::vector<Eigen::Vector2d> out;
+  std::istringstream in(text);
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    const size_t hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    for (char& c : line)
+      if (c == ',' || c == '\t' || c == '\r') c = ' ';
+    std::istringstream fields(line);
+    std::vector<std::string> words;
+    for (std::string w; fields >> w;) words.push_back(w);
+    if (words.empty()) continue;
+    if (words.size() != 2)
+      throw engine::Error(engine::located(fileName, number, "a target is two numbers, \"x y\" in metres (got " +
+                                                                std::to_string(words.size()) + " fields)"));
+    Eigen::Vector2d t;
+    for (int i = 0; i < 2; ++i) {
+      const std::string& w = words[size_t(i)];
+      char* end = nullptr;
+      const double v = std::strtod(w.c_str(), &end);
+      if (end == w.c_str() || *end != '\0' || !std::isfinite(v) || std::abs(v) > 1000.0)
+        throw engine::Error(engine::located(fileName, number, "'" + w + "' is not a coordinate in metres (a number within +-1000)"));
+      t[i] = v;
+    }
+    out.push_back(t);
+  }
+  if (out.empty()) throw engine::Error(engine::located(fileName, std::max(number, 1), "no targets in the file"));
+  return out;
+}
+
+double turnRelease(double wz, const GardenKeyParams& p) {
+  const double w = std::abs(wz);
+  return w * w / (2.0 * p.turnRamp) + w * p.turnLag;
+}
+
+double brakeDistance(double vx, const GardenKeyParams& p) {
+  const double v = std::max(0.0, vx);
+  return v * v / (2.0 * p.keyRamp) + v * p.brakeLag;
+}
+
+const char* GardenKeys::modeName(Mode m) {
+  switch (m) {
+    case Mode::Stop: return "stop";
+    case Mode::Turn: return "turn";
+    case Mode::Go: return "go";
+    case Mode::Back: return "back";
+  }
+  return "?";
+}
+
+void GardenKeys::hold(int64_t tick, char key, bool down, std::vector<engine::KeyEvent>* out) {
+  const size_t at = held_.find(key);
+  if (down == (at != std::string::npos)) return;
+  out->push_back({tick, down ? engine::KeyAction::kDown : engine::KeyAction::kUp, key});
+  if (down) held_ += key;
+  else held_.erase(at, 1);
+}
+
+void GardenKeys::releaseMoves(int64_t tick, std::vector<engine::KeyEvent>* out) {
+  while (!held_.empty()) hold(tick, held_.back(), false, out);
+}
+
+void GardenKeys::skill(int64_t tick, char key, std::vector<engine::KeyEvent>* out) {
+  if (!key || key == skill_) return;
+  out->push_back({tick, engine::KeyAction::kTap, key});
+  skill_ = key;
+}
+
+void GardenKeys::enter(Mode m) {
+  // Stop -> Turn keeps the rest already waited for; every other change waits afresh
+  if (!(mode_ == Mode::Stop && m == Mode::Turn)) restSince_ = -1;
+  mode_ = m;
+}
+
+std::vector<engine::KeyEvent> GardenKeys::decide(int64_t tick, const LegCues& c) {
+  std::vector<engine::KeyEvent> out;
+  const bool still = c.commandVx == 0.0 && c.commandWz == 0.0 && c.speed < p_.restSpeed;
+  auto settled = [&] {
+    if (!still) {
+      restSince_ = -1;
+      return false;
+    }
+    if (restSince_ < 0) restSince_ = tick;
+    return tick - restSince_ >= p_.settleTicks;
+  };
+  // the walk first: the standing controller does not turn
+  if (!skill_) skill(tick, keys_.walk, &out);
+
+  if (c.backOff && mode_ != Mode::Back) {
+    releaseMoves(tick, &out);
+    if (skill_ != keys_.walk) skill(tick, keys_.walk, &out);
+    enter(Mode::Back);
+  }
+  switch (mode_) {
+    case Mode::Back:
+      if (c.backOff) {
+        if (c.commandWz == 0.0) hold(tick, 'S', true, &out);
+      } else {
+        releaseMoves(tick, &out);
+        enter(Mode::Stop);
+      }
+      break;
+    case Mode::Stop:
+      releaseMoves(tick, &out);
+      if (settled() && c.haveLeg) {
+        if (goStairs_ || skill_ == keys_.run) skill(tick, keys_.walk, &out);  // off the stairs or out of the run
+        goStairs_ = false;
+        enter(Mode::Turn);
+        tries_ = 0;
+      }
+      break;
+    case Mode::Turn: {
+      if (!c.haveLeg) {
+        releaseMoves(tick, &out);
+        enter(Mode::Stop);
+        break;
+      }
+      const double error = std::remainder(c.legHeading - c.yaw, 2.0 * M_PI);
+      const double tolerance = c.stairsLeg ? p_.stairsTolerance : p_.walkTolerance;
+      const bool turning = held_.find('A') != std::string::npos || held_.find('D') != std::string::npos;
+      if (turning) {
+        // let go early: the ramp down and the skill's lag turn it the rest of the way
+        const bool wrongWay = (held_.find('A') != std::string::npos) != (error > 0);
+        if (wrongWay || std::abs(error) <= turnRelease(c.commandWz, p_) + 0.5 * tolerance) {
+          releaseMoves(tick, &out);
+          restSince_ = -1;
+        }
+        break;
+      }
+      if (!settled()) break;
+      const double meanError = std::remainder(c.legHeading - c.yawMean, 2.0 * M_PI);
+      if (std::abs(meanError) <= tolerance || tries_ >= p_.maxTurnTries) {
+        goStairs_ = c.stairsLeg;
+        goHeading_ = c.legHeading;
+        skill(tick, c.stairsLeg ? keys_.stairs : keys_.walk, &out);
+        hold(tick, 'W', true, &out);
+        enter(Mode::Go);
+        break;
+      }
+      hold(tick, meanError > 0 ? 'A' : 'D', true, &out);
+      ++tries_;
+      break;
+    }
+    case Mode::Go: {
+      bool stop = !c.haveLeg || c.legRemaining <= brakeDistance(c.commandVx, p_);
+      if (!goStairs_) {
+        stop = stop || c.pathChanged || c.movableAhead || c.stairsLeg;  // a stairs leg begins from a stop, squared up
+        stop = stop || c.obstacleFactor < p_.wallStopFactor;           // a wall right ahead: the leg went wrong
+        // the bearing to the leg's end has turned away from the heading the leg started on: the walk drifted sideways
+        const double drift = std::remainder(c.legHeading - goHeading_, 2.0 * M_PI);
+        stop = stop || (std::abs(drift) > p_.returnHeading && c.legRemaining > p_.returnDistance);
+        if (!stop && keys_.run && p_.useRun) {
+          // the run takes over from a walk at speed (from a standstill it fell within 2 s)
+          if (c.runAllowed && c.legRemaining >= p_.runMinLeg && c.speed >= p_.runFromSpeed) skill(tick, keys_.run, &out);
+          else if (skill_ == keys_.run && (c.legRemaining < p_.runLeaveLeg || !c.runAllowed)) skill(tick, keys_.walk, &out);
+        }
+      }
+      if (stop) {
+        releaseMoves(tick, &out);
+        if (goStairs_ || skill_ == keys_.run) skill(tick, keys_.walk, &out);
+        goStairs_ = false;
+        enter(Mode::Stop);
+      }
+      break;
+    }
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+
+nav::NavigatorParams GardenPilot::gardenNavigatorParams() {
+  nav::NavigatorParams p;
+  p.reachRadius = 0.5;  // the paper's operator gave the next target within 0.5 m
+  // legs walked straight on a held heading drift 0.1-0.3 m sideways (the walk crabs up to 0.1 rad off its yaw):
+  // 0.1 m more clearance than the navigation's default radius (the 1.1 m alley keeps a 0.18 m wide lane)
+  p.grid.robotRadius = 0.45;
+  return p;
+}
+
+GardenPilot::GardenPilot(const engine::PlaneWorld& plane, const SkillKeys& keys, uint64_t seed,
+                         std::vector<Eigen::Vector2d> targets, const nav::NavigatorParams& navParams,
+                         GardenKeyParams keyParams)
+    : keys_(keys, keyParams), rng_(seed ^ 0x67617264656eULL), fixed_(std::move(targets)) {
+  nav::NavigatorParams params = navParams;
+  Eigen::Vector2d lo, hi;
+  if (!plane.staticBounds(&lo, &hi)) throw engine::Error("the garden pilot needs a map: the level's 2D layer is empty");
+  params.grid.origin = lo;
+  params.grid.size = hi - lo;
+  nav_ = std::make_unique<nav::Navigator>(plane, params);
+  random_ = fixed_.empty();
+}
+
+Eigen::Vector2d GardenPilot::drawTarget(const nav::OccupancyGrid& grid, const Eigen::Vector2d& from, bool across,
+                                        const TargetDraw& draw, std::mt19937_64* rng) {
+  Eigen::Vector2d fallback = from;
+  bool haveFallback = false;
+  for (int i = 0; i < draw.tries; ++i) {
+    const int ix = std::min(grid.width() - 1, int(unit(*rng) * grid.width()));
+    const int iy = std::min(grid.height() - 1, int(unit(*rng) * grid.height()));
+    if (grid.kind(ix, iy) != nav::CellKind::Free) continue;
+    const Eigen::Vector2d c = grid.centre(ix, iy);
+    const nav::Path path = nav::planPath(grid, from, c);
+    if (!path.found || path.length() < draw.minPath) continue;
+    if (!across || !path.stairs.empty()) return c;
+    if (!haveFallback) fallback = c, haveFallback = true;
+  }
+  return fallback;
+}
+
+void GardenPilot::nextTarget(const Eigen::Vector2d& from) {
+  ++targetIndex_;
+  Eigen::Vector2d t;
+  if (random_) {
+    const bool across = draw_.acrossEvery > 0 && targetIndex_ % draw_.acrossEvery == 1;
+    t = drawTarget(nav_->grid(), from, across, draw_, &rng_);
+  } else {
+    if (targetIndex_ >= int(fixed_.size())) {
+      nav_->clearTarget();
+      return;
+    }
+    t = fixed_[size_t(targetIndex_)];
+  }
+  nav_->setTarget(t);
+  ++tally_.given;
+  tally_.targets.push_back(t);
+}
+
+LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) const {
+  LegCues c;
+  const robot::Sensors& s = session.sensors();
+  const Eigen::Vector2d p = s.basePosition.head<2>();
+  c.yaw = s.yaw;
+  double sx = 0, sy = 0;
+  for (const double y : yaws_) sx += std::cos(y), sy += std::sin(y);
+  c.yawMean = yaws_.empty() ? s.yaw : std::atan2(sy, sx);
+  c.speed = (s.baseRotation * s.linearVelocity).head<2>().norm();
+  c.commandVx = session.command().vx;
+  c.commandWz = session.command().wz;
+  c.backOff = out.state == nav::NavState::BackingOff;
+  c.pathChanged = out.events.replanned;
+  c.runAllowed = out.command.skill == nav::NavSkill::Run;
+  c.obstacleFactor = out.follow.obstacleFactor;
+  // a movable body (a ball) right ahead of the body's core
+  const Eigen::Vector2d ahead(std::cos(s.yaw), std::sin(s.yaw)), left(-ahead.y(), ahead.x());
+  const engine::PlaneWorld& plane = session.plane();
+  for (const double k : {-1.0, 0.0, 1.0}) {
+    const Eigen::Vector2d from = p + k * kMovableHalfWidth * left;
+    const engine::RayHit hit = plane.rayCast(from, from + kMovableLook * ahead);
+    if (hit.hit && engine::isMovableTag(hit.tag)) c.movableAhead = true;
+  }
+  const nav::Path& path = nav_->path();
+  if (out.state != nav::NavState::Following || !path.found || path.points.size() < 2) return c;
+  c.haveLeg = true;
+  const double s0 = out.follow.progress.arc;
+  // the next staircase on the path, and where its leg begins
+  const nav::StairsSpan* span = nullptr;
+  for (const nav::StairsSpan& st : path.stairs)
+    if (st.to + kStairsExitAfter > s0) {
+      span = &st;
+      break;
+    }
+  double entry = 0;
+  if (span) {
+    const int j = path.segmentAt(span->from + 1e-3);  // the straight that crosses the stairs starts at point j
+    entry = std::max(path.arc[size_t(j)], span->from - kStairsEntryBefore);
+    if (s0 >= entry - kStairsEntryReach) {
+      c.stairsLeg = true;
+      c.legHeading = span->heading;
+      c.legRemaining = std::max(0.0, span->to + kStairsExitAfter - s0);
+      return c;
+    }
+  }
+  double end = path.length();
+  for (size_t i = 1; i < path.points.size(); ++i)
+    if (path.arc[i] > s0 + kSkipWaypoint) {
+      end = path.arc[i];
+      break;
+    }
+  if (span && entry < end) end = entry;
+  const Eigen::Vector2d to = path.pointAt(end) - p;
+  c.legRemaining = to.norm();
+  c.legHeading = c.legRemaining > 1e-6 ? std::atan2(to.y(), to.x()) : s.yaw;
+  return c;
+}
+
+std::vector<engine::KeyEvent> GardenPilot::decide(int64_t tick, const Session& session) {
+  const robot::Sensors& s = session.sensors();
+  const Eigen::Vector2d p = s.basePosition.head<2>();
+  std::string events;
+  auto event = [&](const char* e) { events += (events.empty() ? "" : "+") + std::string(e); };
+  if (targetIndex_ < 0) {
+    nextTarget(p);
+    event("target");
+  }
+  if (yaws_.size() < size_t(kYawWindow)) yaws_.push_back(s.yaw);
+  else yaws_[yawNext_] = s.yaw;
+  yawNext_ = (yawNext_ + 1) % size_t(kYawWindow);
+  nav::NavInput in;
+  in.position = p;
+  in.yaw = s.yaw;
+  in.forward = keys_.mode() == GardenKeys::Mode::Go;
+  const Eigen::Vector3d v = s.baseRotation * s.linearVelocity;
+  in.speed = v.x() * std::cos(s.yaw) + v.y() * std::sin(s.yaw);
+  nav::NavOutput out = nav_->step(session.plane(), in, engine::kTickSeconds);
+  if (out.events.reached) {
+    ++tally_.reached;
+    tally_.reachedTicks.push_back(tick);
+    event("reached");
+    nextTarget(p);
+    event("target");
+    out = nav_->step(session.plane(), in, 0.0);  // plan for the new target at once (no time passes)
+  }
+  if (out.events.stuck) ++tally_.stuck, event("stuck");
+  if (out.events.noPath) ++tally_.noPath, event("noPath");
+  if (out.events.replanned) ++tally_.replans, event("replanned");
+  const LegCues cues = legCues(session, out);
+  std::vector<engine::KeyEvent> keys = keys_.decide(tick, cues);
+
+  last_ = GardenTick{};
+  last_.target = nav_->hasTarget() ? targetIndex_ : -1;
+  if (nav_->hasTarget()) {
+    const Eigen::Vector2d d = nav_->target() - p;
+    last_.targetDistance = d.norm();
+    last_.targetAngle = std::remainder(std::atan2(d.y(), d.x()) - s.yaw, 2.0 * M_PI);
+  }
+  last_.obstacleFactor = out.follow.obstacleFactor;
+  last_.navVr = out.command.vr;
+  last_.navWr = out.command.wr;
+  last_.events = events;
+  last_.mode = keys_.mode();
+  return keys;
+}
+
+}  // namespace game

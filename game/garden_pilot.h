@@ -1,0 +1,191 @@
+// garden_pilot.h — plays a map level (plane = "top", no [rules]: levels/garden) the way the paper's operator and
+// navigation did: targets one after another (drawn from the run's seed over the map, or a fixed list), a planned
+// path to each (game::nav::Navigator, which sees the world only through the level's 2D layer), and the skills
+// chosen on the way (walk, run on long straight legs, stairs squared up at a staircase). It acts by key events
+// only, so a recorded run replays from its keys like any other.
+//
+// The key scheme (GardenKeys). The keyboard's interlock lets one of vx, vy, wz be non-zero at a time (W/S, Q/E, A/D),
+// so the pilot cannot steer while it walks. It follows the path leg by leg instead:
+//
+//   Stop   every movement key up; wait until the command is 0 and the robot at rest (kSettleTicks)
+//   Turn   A or D held toward the leg's heading, let go early enough that the turn's ramp-down (3 rad/s^2) and the
+//          skill's lag end it on the heading (turnRelease); after settling, again (shorter) until within the
+//          tolerance (walk legs 0.05 rad, stairs 0.04 rad) or kMaxTurnTries
+//   Go     the leg's skill key (0 walk, 1 run, 2 stairs) and W held: the runtime's heading hold keeps W straight on the
+//          heading it started with (robot::shapeCommand). W is let go when the leg's end is within the braking
+//          distance (brakeDistance: the 2 m/s^2 ramp and a lag)
+//   Back   S held while the navigation backs off a stuck robot
+//
+//   A leg runs from the robot to the path's next waypoint; before a staircase it ends at the stairs' entry (0.4 m
+//   before the path's first stair cell, or the waypoint where the straight that crosses the stairs begins), and the
+//   stairs leg that follows runs along the staircase's axis to 0.3 m past its last stair cell. Go turns into Stop
+//   again at the leg's end, when the bearing to the leg's end has turned by more than kReturnHeading from the
+//   leg's heading at its start with more than kReturnDistance to go (the walk drifted sideways), when the path changed (a replan), or when a movable body (a ball) is
+//   right ahead; not on a staircase, which is walked to its end.
+//   Run (key 1) while the navigation's skill choice says run and the leg has kRunMinLeg left; walk (0) again with
+//   kRunLeaveLeg left.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "engine/input/key_script.h"
+#include "game/autopilot.h"
+#include "game/nav/navigator.h"
+
+namespace engine {
+class PlaneWorld;
+}
+
+namespace game {
+
+class Session;
+
+/// A target list: one target per line, "x y" in metres (world x, y), separated by spaces or a comma; '#' starts a
+/// comment; blank lines are skipped. Anything else is an error "file:line: what is wrong" (engine::Error).
+std::vector<Eigen::Vector2d> parseTargets(const std::string& text, const std::string& fileName);
+
+/// What the key scheme sees in one tick (from the navigation and the robot's own state).
+struct LegCues {
+  double yaw = 0;                       ///< pelvis heading [rad]
+  double yawMean = 0;                   ///< its mean over the last kYawWindow ticks (the gait sways it +-0.03 rad)
+  double speed = 0;                     ///< horizontal pelvis speed [m/s]
+  double commandVx = 0, commandWz = 0;  ///< the keys' ramped command now
+  bool haveLeg = false;                 ///< a path to follow
+  double legHeading = 0;                ///< the heading to face for the leg [rad]
+  double legRemaining = 0;              ///< distance to the leg's end [m]
+  bool stairsLeg = false;               ///< the leg crosses a staircase (key 2)
+  bool runAllowed = false;              ///< the navigation's skill choice is run
+  bool backOff = false;                 ///< the navigation backs off (stuck)
+  bool pathChanged = false;             ///< a replan this tick
+  bool movableAhead = false;            ///< a movable body (a ball) right in front
+  double obstacleFactor = 1;            ///< the navigation's obstacle factor (1 clear, 0 touching)
+};
+
+/// The key scheme's numbers (see the file comment).
+struct GardenKeyParams {
+  int settleTicks = 30;           ///< at rest this long before turning or going [ticks]
+  double restSpeed = 0.15;        ///< "at rest" below this pelvis speed [m/s]
+  double walkTolerance = 0.08;    ///< a walk leg starts within this of its heading [rad] (0.4 m off over 5 m)
+  double stairsTolerance = 0.05;  ///< a stairs leg within this [rad] (0.3 m off over the bridge's 6 m)
+  int maxTurnTries = 4;           ///< then go anyway
+  double turnRamp = 3.0;          ///< the keys' wz ramp [rad/s^2] (engine::CommandLimits::wzRate per 0.01 s)
+  double turnLag = 0.12;          ///< the skill's yaw lags its command by about this [s]
+  double keyRamp = 2.0;           ///< the keys' vx ramp [m/s^2]
+  double brakeLag = 0.15;         ///< the walk's speed lags its command by about this [s]
+  double returnHeading = 0.1;     ///< kReturnHeading: stop and turn again when this far off the leg's end [rad] ...
+  double returnDistance = 1.0;    ///< ... with more than this to go [m]
+  double wallStopFactor = 0.1;    ///< a walk leg stops when the obstacle factor falls below this (a wall 0.47 m ahead)
+  /// the run at all: off in the garden, where the run's hand-over back to the walk (key 0, then W let go) fell in
+  /// 2 of 2 runs that used it (seeds 1 and 2, 1 s after the switch); the unit tests check the scheme with it on
+  bool useRun = false;
+  double runMinLeg = 6.0;         ///< run only with this much leg left [m] ...
+  double runLeaveLeg = 3.5;       ///< ... and walk again with this much left
+  double runFromSpeed = 0.9;      ///< ... and from a walk at least this fast [m/s]
+};
+
+/// The yaw error [rad] at which a turn key held at yaw rate `wz` should be let go to stop on the heading.
+double turnRelease(double wz, const GardenKeyParams& p);
+/// The distance [m] a robot walking at `vx` covers after W is let go.
+double brakeDistance(double vx, const GardenKeyParams& p);
+
+/// The key scheme: LegCues in, key events out, one tick at a time (deterministic: no clock of its own).
+class GardenKeys {
+ public:
+  enum class Mode { Stop, Turn, Go, Back };
+  GardenKeys(const SkillKeys& keys, GardenKeyParams params = {}) : keys_(keys), p_(params) {}
+
+  std::vector<engine::KeyEvent> decide(int64_t tick, const LegCues& cues);
+
+  Mode mode() const { return mode_; }
+  /// The skill key pressed last ('\0': none yet).
+  char skillKey() const { return skill_; }
+  static const char* modeName(Mode m);
+
+ private:
+  void hold(int64_t tick, char key, bool down, std::vector<engine::KeyEvent>* out);
+  void releaseMoves(int64_t tick, std::vector<engine::KeyEvent>* out);
+  void skill(int64_t tick, char key, std::vector<engine::KeyEvent>* out);
+  void enter(Mode m);
+
+  SkillKeys keys_;
+  GardenKeyParams p_;
+  Mode mode_ = Mode::Stop;
+  std::string held_;      // movement keys held (W S A D)
+  char skill_ = 0;        // the skill key pressed last
+  int64_t restSince_ = -1;  // the tick the robot was first seen at rest in this Stop / between turn pulses
+  int tries_ = 0;
+  bool goStairs_ = false;  // the Go under way is a stairs leg
+  double goHeading_ = 0;   // the leg's heading when it started
+};
+
+/// What the pilot did in one tick, for telemetry.
+struct GardenTick {
+  int target = -1;             ///< index of the current target (-1: none)
+  double targetDistance = 0;   ///< straight-line distance to it [m]
+  double targetAngle = 0;      ///< its bearing off the heading [rad]
+  double obstacleFactor = 1;   ///< the navigation's obstacle factor
+  double navVr = 0, navWr = 0;  ///< the navigation's own command (its interlock), for comparison
+  std::string events;          ///< "reached", "stuck", "replanned", "target", "noPath", joined by '+'
+  GardenKeys::Mode mode = GardenKeys::Mode::Stop;
+};
+
+/// The targets given, reached and the stuck recoveries so far.
+struct GardenTally {
+  int given = 0, reached = 0, stuck = 0, noPath = 0, replans = 0;
+  std::vector<Eigen::Vector2d> targets;  ///< every target given, in order
+  std::vector<int64_t> reachedTicks;
+};
+
+/// How random targets are drawn: cells of the map that are free (no wall, no stairs), with a path from the previous
+/// target (or the spawn) at least minPath long; every acrossEvery-th one (the 2nd, 5th, ...) needs a path that
+/// crosses a staircase (the bridge or the short flight), tried up to `tries` candidates.
+struct TargetDraw {
+  double minPath = 5.0;  ///< [m]
+  int acrossEvery = 3;
+  int tries = 400;
+};
+
+class GardenPilot {
+ public:
+  /// Maps the session's 2D layer (the rectangle its static bodies cover). With `targets` empty, targets are drawn
+  /// from `seed`.
+  GardenPilot(const engine::PlaneWorld& plane, const SkillKeys& keys, uint64_t seed,
+              std::vector<Eigen::Vector2d> targets, const nav::NavigatorParams& navParams = gardenNavigatorParams(),
+              GardenKeyParams keyParams = {});
+
+  std::vector<engine::KeyEvent> decide(int64_t tick, const Session& session);
+
+  const GardenTick& last() const { return last_; }
+  const GardenTally& tally() const { return tally_; }
+  const nav::Navigator& navigator() const { return *nav_; }
+
+  /// The garden's navigation parameters: the paper's 0.5 m reach radius, the rest docs/navigation.md's defaults.
+  static nav::NavigatorParams gardenNavigatorParams();
+  /// A random target for a start at `from` (TargetDraw), from `rng`: deterministic.
+  static Eigen::Vector2d drawTarget(const nav::OccupancyGrid& grid, const Eigen::Vector2d& from, bool across,
+                                    const TargetDraw& draw, std::mt19937_64* rng);
+
+ private:
+  LegCues legCues(const Session& session, const nav::NavOutput& out) const;
+  static constexpr int kYawWindow = 40;  ///< ticks (about one gait cycle)
+  std::vector<double> yaws_;             // the last kYawWindow yaws, a ring
+  size_t yawNext_ = 0;
+  void nextTarget(const Eigen::Vector2d& from);
+
+  std::unique_ptr<nav::Navigator> nav_;
+  GardenKeys keys_;
+  std::mt19937_64 rng_;
+  std::vector<Eigen::Vector2d> fixed_;
+  bool random_ = true;
+  int targetIndex_ = -1;
+  GardenTally tally_;
+  GardenTick last_;
+  TargetDraw draw_;
+};
+
+}  // namespace game
