@@ -112,7 +112,7 @@ int PlaneWorld::bodyCount() const { return static_cast<int>(impl_->bodies.size()
 
 bool PlaneWorld::staticBounds(Eigen::Vector2d* lo, Eigen::Vector2d* hi) const {
   bool any = false;
-  b2AABB all;
+  b2AABB all{};  // (set by the first fixture; zeroed so the compiler sees it initialised)
   for (const b2Body* body : impl_->bodies) {
     if (body->GetType() != b2_staticBody) continue;
     for (const b2Fixture* f = body->GetFixtureList(); f; f = f->GetNext()) {
