@@ -112,21 +112,23 @@ int PlaneWorld::bodyCount() const { return static_cast<int>(impl_->bodies.size()
 
 bool PlaneWorld::staticBounds(Eigen::Vector2d* lo, Eigen::Vector2d* hi) const {
   bool any = false;
-  b2AABB all{};  // (set by the first fixture; zeroed so the compiler sees it initialised)
+  Eigen::Vector2d low(0, 0), high(0, 0);
   for (const b2Body* body : impl_->bodies) {
     if (body->GetType() != b2_staticBody) continue;
     for (const b2Fixture* f = body->GetFixtureList(); f; f = f->GetNext()) {
       for (int child = 0; child < f->GetShape()->GetChildCount(); ++child) {
         b2AABB box;
         f->GetShape()->ComputeAABB(&box, body->GetTransform(), child);
-        if (any) all.Combine(box);
-        else all = box, any = true;
+        const Eigen::Vector2d a(box.lowerBound.x, box.lowerBound.y), b(box.upperBound.x, box.upperBound.y);
+        low = any ? low.cwiseMin(a) : a;
+        high = any ? high.cwiseMax(b) : b;
+        any = true;
       }
     }
   }
   if (!any) return false;
-  *lo = Eigen::Vector2d(all.lowerBound.x, all.lowerBound.y);
-  *hi = Eigen::Vector2d(all.upperBound.x, all.upperBound.y);
+  *lo = low;
+  *hi = high;
   return true;
 }
 
