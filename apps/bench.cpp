@@ -48,7 +48,8 @@ struct Totals {
 
 // plays each run by autopilot until it is won or lost, two at a time; a line on stderr as each one ends, then a
 // line per run (outcome, time, falls by skill) and the totals on stdout, in the runs' order
-Totals playByAutopilot(const std::vector<AutopilotRun>& runs, const robot::RobotModel& model, const robot::SkillSet& skills) {
+Totals playByAutopilot(const std::vector<AutopilotRun>& runs, const robot::RobotModel& model,
+                       const robot::SkillSet& skills) {
   const int n = int(runs.size());
   std::vector<game::PlayResult> results(runs.size());
   std::atomic<int> next{0}, done{0};
@@ -65,8 +66,9 @@ Totals playByAutopilot(const std::vector<AutopilotRun>& runs, const robot::Robot
       ap.ticks = engine::secondsToTicks(level.timeLimit > 0 ? level.timeLimit + 0.5 : 600.0);  // until it ends
       results[size_t(i)] = game::play(level, model, ap);
       const std::lock_guard<std::mutex> lock(progress);
-      std::fprintf(stderr, "bench: %d of %d played (%s: %s, %.0f s wall so far)\n", ++done, n, runs[size_t(i)].label.c_str(),
-                   results[size_t(i)].outcome == game::Outcome::Won ? "won" : "lost", since(start));
+      std::fprintf(stderr, "bench: %d of %d played (%s: %s, %.0f s wall so far)\n", ++done, n,
+                   runs[size_t(i)].label.c_str(), results[size_t(i)].outcome == game::Outcome::Won ? "won" : "lost",
+                   since(start));
     }
   };
   std::thread a(worker), b(worker);
@@ -80,9 +82,10 @@ Totals playByAutopilot(const std::vector<AutopilotRun>& runs, const robot::Robot
     t.wins += won;
     t.falls += p.telemetry.falls;
     for (const auto& [skill, k] : p.telemetry.fallsBySkill) bySkill[skill] += k;
-    std::printf("  autopilot %-12s %-4s %-52s %7.2f s  falls %d%s%s\n", runs[size_t(i)].label.c_str(), won ? "won" : "lost",
-                p.outcomeReason.c_str(), double(p.ticks) * engine::kTickSeconds, p.telemetry.falls,
-                p.telemetry.falls ? ": " : "", game::fallsBySkillText(p.telemetry.fallsBySkill).c_str());
+    std::printf("  autopilot %-12s %-4s %-52s %7.2f s  falls %d%s%s\n", runs[size_t(i)].label.c_str(),
+                won ? "won" : "lost", p.outcomeReason.c_str(), double(p.ticks) * engine::kTickSeconds,
+                p.telemetry.falls, p.telemetry.falls ? ": " : "",
+                game::fallsBySkillText(p.telemetry.fallsBySkill).c_str());
   }
   std::printf("  total: won %d of %d, %d falls (%.2f a run)%s%s\n", t.wins, n, t.falls, n ? double(t.falls) / n : 0.0,
               t.falls ? "; by skill: " : "", game::fallsBySkillText(bySkill).c_str());
@@ -112,7 +115,8 @@ int runBench(const BenchOptions& o) {
   const double usPerStep = one / substeps * 1e6;
   report("physics_us_per_substep_1thread", usPerStep, "us", "(target <= 70; MuJoCo ~25 on a comparable model)");
   report("physics_ratio_to_mujoco", usPerStep / 25.0, "x", "(MuJoCo 2.2.2 figure from research/feasibility.md)");
-  report("control_ticks_per_s_1thread", substeps / robot::kSubsteps / one, "ticks/s", "(0.01 s ticks, 5 substeps each)");
+  report("control_ticks_per_s_1thread", substeps / robot::kSubsteps / one, "ticks/s",
+         "(0.01 s ticks, 5 substeps each)");
   double two[2] = {0, 0};
   {
     std::thread a([&] { two[0] = timeStanding(model, ticks); });
@@ -170,10 +174,12 @@ int runBench(const BenchOptions& o) {
     std::vector<AutopilotRun> runs;
     for (int i = 1; i <= o.variants; ++i) {
       const levels::MarioVariant v = levels::drawMarioVariant(uint64_t(i), int(mario.questionBoxes.size()));
-      variants.push_back(levels::parseLevel(levels::marioVariantToml(mario, v), "variant " + std::to_string(i) + " of " + mario.path));
+      variants.push_back(
+          levels::parseLevel(levels::marioVariantToml(mario, v), "variant " + std::to_string(i) + " of " + mario.path));
       std::printf("  variant %-3d %s\n", i, levels::describeVariant(v).c_str());
     }
-    for (int i = 1; i <= o.variants; ++i) runs.push_back({&variants[size_t(i - 1)], uint64_t(i), "variant " + std::to_string(i)});
+    for (int i = 1; i <= o.variants; ++i)
+      runs.push_back({&variants[size_t(i - 1)], uint64_t(i), "variant " + std::to_string(i)});
     const Totals t = playByAutopilot(runs, model, skills);
     report("autopilot_variants_wins", t.wins, "variants", ("of " + std::to_string(o.variants)).c_str());
     report("autopilot_variants_falls", t.falls, "falls", "(over all the variants)");

@@ -15,11 +15,11 @@ namespace apps {
 
 /// `treelearn bench` options.
 struct BenchOptions {
-  double seconds = 20.0;  ///< simulated seconds per physics measurement
-  int frames = 300;       ///< frames per rendering measurement
-  std::string csv;        ///< optional CSV output path
-  int autopilotSeeds = 0; ///< also play levels/mario by autopilot at seeds 1..N (wins, times, falls)
-  int variants = 0;       ///< also play variants 1..N of levels/mario by autopilot (levels/variant.h), variant N at seed N
+  double seconds = 20.0;   ///< simulated seconds per physics measurement
+  int frames = 300;        ///< frames per rendering measurement
+  std::string csv;         ///< optional CSV output path
+  int autopilotSeeds = 0;  ///< also play levels/mario by autopilot at seeds 1..N (wins, times, falls)
+  int variants = 0;  ///< also play variants 1..N of levels/mario by autopilot (levels/variant.h), variant N at seed N
 };
 
 /// Runs the benchmarks and prints a table; returns the exit code.
@@ -36,14 +36,14 @@ struct TrainOptions : ai::TrainSkillOptions {
 struct EvalOptions {
   std::string skill;
   std::string model;  ///< ONNX file to evaluate (default: the skill's shipped model)
-  int episodes = 0;  ///< 0 = the card's own count
+  int episodes = 0;   ///< 0 = the card's own count
   uint64_t seed = 1;
   int threads = 2;
-  bool sweep = false;  ///< print achieved against commanded speeds instead of the card
-  bool verbose = false;  ///< switches: list every failed trial
-  bool priorOnly = false;  ///< the card with zero network output: what the skill's prior does by itself
+  bool sweep = false;        ///< print achieved against commanded speeds instead of the card
+  bool verbose = false;      ///< switches: list every failed trial
+  bool priorOnly = false;    ///< the card with zero network output: what the skill's prior does by itself
   std::string samplePolicy;  ///< policy file: the card with actions drawn from its Gaussian, as training acts
-  std::string only;  ///< switches: only the switches into or out of this skill
+  std::string only;          ///< switches: only the switches into or out of this skill
 };
 
 /// `treelearn ship` options.
@@ -56,7 +56,7 @@ struct ShipOptions {
 
 /// `treelearn eval switches` options.
 struct SwitchEvalOptions {
-  int trials = 10;           ///< per ordered pair
+  int trials = 10;  ///< per ordered pair
   uint64_t seed = 1;
   int threads = 2;
   double barPercent = 95.0;  ///< success needed on every pair
@@ -83,6 +83,5 @@ int runShip(const ShipOptions& options);
 int runEval(const EvalOptions& options);
 /// `treelearn eval all`: every skill's card, then the switches; exit 0 when everything passes.
 int runEvalAll(const EvalOptions& options);
-
 
 }  // namespace apps

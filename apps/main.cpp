@@ -2,7 +2,6 @@
 // CLI11, turns engine::Error into "error: ..." and exit code 2.
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,7 +10,6 @@
 #include "ai/onnx/policy_onnx.h"
 #include "ai/onnx/skill_metadata.h"
 #include "apps/commands.h"
-#include "robot/skill_layout.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/hash.h"
@@ -22,6 +20,7 @@
 #include "levels/level.h"
 #include "levels/variant.h"
 #include "robot/robot_model.h"
+#include "robot/skill_layout.h"
 #include "robot/skill_tree.h"
 
 namespace {
@@ -55,7 +54,8 @@ std::string gardenSummaryText(const game::PlayResult& r) {
   const double seconds = double(r.ticks) * engine::kTickSeconds;
   std::ostringstream s;
   char line[512];
-  std::snprintf(line, sizeof line, "targets    %d reached of %d given; stuck recoveries %d; falls %d; no path %d; replans %d\n",
+  std::snprintf(line, sizeof line,
+                "targets    %d reached of %d given; stuck recoveries %d; falls %d; no path %d; replans %d\n",
                 g.targetsReached, g.targetsGiven, g.stuck, r.telemetry.falls, g.noPath, g.replans);
   s << line;
   std::snprintf(line, sizeof line, "travelled  %.1f m in %.1f s, mean speed %.2f m/s\n", r.telemetry.distance, seconds,
@@ -155,7 +155,8 @@ game::PlayResult runWithOutput(const levels::Level& level, const robot::RobotMod
   game::PlayResult r = game::play(level, model, options);
   if (frames) {
     frames->finish();
-    if (!out.videoPath.empty()) std::printf("video      %s (%d frames at %d fps)\n", out.videoPath.c_str(), frames->frames(), out.fps);
+    if (!out.videoPath.empty())
+      std::printf("video      %s (%d frames at %d fps)\n", out.videoPath.c_str(), frames->frames(), out.fps);
     if (!out.framesDir.empty()) std::printf("frames     %s (%d PNG files)\n", out.framesDir.c_str(), frames->frames());
   }
   return r;
@@ -182,15 +183,18 @@ int cmdPlay(const PlayArgs& a) {
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   const robot::SkillSet skills = apps::loadSkills(model);
   if (a.autopilot && !level.isGame() && !game::isMapLevel(level))
-    throw engine::Error(level.path + ": --autopilot plays game levels (a level with [rules] and a goal) and maps "
-                                     "(plane = \"top\")");
+    throw engine::Error(level.path +
+                        ": --autopilot plays game levels (a level with [rules] and a goal) and maps "
+                        "(plane = \"top\")");
   if (!a.targets.empty() && !(a.autopilot && game::isMapLevel(level)))
-    throw engine::Error("--targets gives the garden pilot its targets: it needs --autopilot on a map level (plane = \"top\")");
+    throw engine::Error(
+        "--targets gives the garden pilot its targets: it needs --autopilot on a map level (plane = \"top\")");
   if (a.autopilot && !a.keys.empty()) throw engine::Error("--autopilot and --keys exclude each other");
   if (!a.expect.empty() && a.expect != "alive" && a.expect != "win")
     throw engine::Error("--expect must be 'alive' or 'win', not '" + a.expect + "'");
   if (a.expect == "win" && !level.isGame())
-    throw engine::Error(level.path + ": level '" + level.name + "' has no goal, so it cannot be won (use --expect alive)");
+    throw engine::Error(level.path + ": level '" + level.name +
+                        "' has no goal, so it cannot be won (use --expect alive)");
 
   game::PlayOptions options;
   options.seed = a.seed;
@@ -203,12 +207,14 @@ int cmdPlay(const PlayArgs& a) {
     options.events = script.events;
     if (script.seed && !a.seedGiven) options.seed = *script.seed;
     if (script.seed && a.seedGiven && a.seed != *script.seed)
-      std::fprintf(stderr, "note: --seed %llu overrides %s:%d (seed %llu): another start, so the keys play another run\n",
+      std::fprintf(stderr,
+                   "note: --seed %llu overrides %s:%d (seed %llu): another start, so the keys play another run\n",
                    static_cast<unsigned long long>(a.seed), path.c_str(), script.seedLine,
                    static_cast<unsigned long long>(*script.seed));
   }
   double seconds = a.seconds;
-  if (seconds < 0) seconds = options.events.empty() ? 10.0 : double(options.events.back().tick) * engine::kTickSeconds + 2.0;
+  if (seconds < 0)
+    seconds = options.events.empty() ? 10.0 : double(options.events.back().tick) * engine::kTickSeconds + 2.0;
   if (a.seconds < 0 && level.isGame()) seconds = level.timeLimit > 0 ? level.timeLimit + 0.5 : 600.0;  // until it ends
   if (a.seconds < 0 && a.autopilot && game::isMapLevel(level)) seconds = 240.0;  // the paper's garden run
   if (!(seconds > 0) || seconds > 86400) throw engine::Error("--seconds must be in (0, 86400]");
@@ -235,15 +241,16 @@ int cmdPlay(const PlayArgs& a) {
     const std::vector<game::GardenSample>& g = r.garden.samples;
     const bool garden = r.garden.played && g.size() == r.comLog.size();
     if (garden)
-      csv += ",pelvis_x_m,pelvis_y_m,pelvis_z_m,vel_x_m_per_s,vel_y_m_per_s,vr_m_per_s,wr_rad_per_s,nav_vr_m_per_s,"
-             "nav_wr_rad_per_s,target,target_x_m,target_y_m,target_distance_m,target_angle_rad,obstacle_factor,roll_rad,"
-             "pitch_rad,mode,events";
+      csv +=
+          ",pelvis_x_m,pelvis_y_m,pelvis_z_m,vel_x_m_per_s,vel_y_m_per_s,vr_m_per_s,wr_rad_per_s,nav_vr_m_per_s,"
+          "nav_wr_rad_per_s,target,target_x_m,target_y_m,target_distance_m,target_angle_rad,obstacle_factor,roll_rad,"
+          "pitch_rad,mode,events";
     csv += "\n";
     char row[512];
     for (size_t i = 0; i < r.comLog.size(); ++i) {
       const game::ComSample& c = r.comLog[i];
-      std::snprintf(row, sizeof row, "%.2f,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f", c.t, c.skill.c_str(), c.x, c.z, c.vx, c.y, c.yaw,
-                    c.leftOfFeet);
+      std::snprintf(row, sizeof row, "%.2f,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f", c.t, c.skill.c_str(), c.x, c.z, c.vx, c.y,
+                    c.yaw, c.leftOfFeet);
       csv += row;
       if (garden) {
         const game::GardenSample& m = g[i];
@@ -251,8 +258,8 @@ int cmdPlay(const PlayArgs& a) {
                                       ? r.garden.targets[size_t(m.target)]
                                       : Eigen::Vector2d(NAN, NAN);
         std::snprintf(row, sizeof row,
-                      ",%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%d,%.3f,%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s", m.x, m.y,
-                      m.z, m.vx, m.vy, m.vr, m.wr, m.navVr, m.navWr, m.target, t.x(), t.y(), m.targetDistance,
+                      ",%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%d,%.3f,%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s", m.x,
+                      m.y, m.z, m.vx, m.vy, m.vr, m.wr, m.navVr, m.navWr, m.target, t.x(), t.y(), m.targetDistance,
                       m.targetAngle, m.obstacleFactor, m.roll, m.pitch, m.mode.c_str(), m.events.c_str());
         csv += row;
       }
@@ -274,7 +281,8 @@ int cmdPlay(const PlayArgs& a) {
       if (e.tick < r.ticks) replay.events.push_back(e);
     replay.states = r.hashes;
     engine::saveReplay(a.record, replay);
-    std::printf("replay     %s (%zu events, %zu state hashes)\n", a.record.c_str(), replay.events.size(), replay.states.size());
+    std::printf("replay     %s (%zu events, %zu state hashes)\n", a.record.c_str(), replay.events.size(),
+                replay.states.size());
   }
   if (a.expect == "win") {
     if (r.outcome != game::Outcome::Won) {
@@ -302,8 +310,9 @@ int cmdReplay(const ReplayArgs& a) {
   const engine::Replay replay = engine::loadReplay(a.file);
   if (!a.keysOut.empty()) {  // before the checks below: the keys of a run stay readable after its models change
     makeParentDirectory(a.keysOut);
-    engine::writeFileAtomic(a.keysOut, engine::formatKeyScript(replay.events, replay.seed,
-                                                               "the key events of " + a.file + " (level " + replay.level + ")"));
+    engine::writeFileAtomic(a.keysOut,
+                            engine::formatKeyScript(replay.events, replay.seed,
+                                                    "the key events of " + a.file + " (level " + replay.level + ")"));
     std::printf("keys       %s (%zu events, seed %llu)\n", a.keysOut.c_str(), replay.events.size(),
                 static_cast<unsigned long long>(replay.seed));
   }
@@ -326,7 +335,8 @@ int cmdReplay(const ReplayArgs& a) {
   if (a.verify && replay.states.empty())
     throw engine::Error(a.file + ": the recording holds no state hashes, so there is nothing to verify");
   // --verify simulates up to the last recorded state: nothing after it can be compared
-  options.ticks = a.verify ? (replay.states.empty() ? 0 : std::min(replay.ticks, replay.states.back().tick)) : replay.ticks;
+  options.ticks =
+      a.verify ? (replay.states.empty() ? 0 : std::min(replay.ticks, replay.states.back().tick)) : replay.ticks;
   options.events = replay.events;
   options.hashEvery = replay.hashEvery;
   options.skills = &skills;
@@ -379,26 +389,35 @@ void addOutputOptions(CLI::App* cmd, OutputOptions* out) {
 
 int main(int argc, char** argv) {
   Eigen::setNbThreads(1);  // matrix products are threaded only inside the PPO update (ai::Trainer)
-  CLI::App app{"treelearn: a Unitree G1 humanoid in Bullet that learns a tree of skills and plays levels with them.\n"
-               "Run 'treelearn <command> --help' for a command's options."};
+  CLI::App app{
+      "treelearn: a Unitree G1 humanoid in Bullet that learns a tree of skills and plays levels with them.\n"
+      "Run 'treelearn <command> --help' for a command's options."};
   app.require_subcommand(1);
   std::string treeFile;
-  app.add_option("--tree", treeFile, "Skill tree file for train, eval, ship, tree and play (default assets/skills/tree.toml); "
-                                     "give it before the command")
+  app.add_option("--tree", treeFile,
+                 "Skill tree file for train, eval, ship, tree and play (default assets/skills/tree.toml); "
+                 "give it before the command")
       ->check(CLI::ExistingFile);
 
   PlayArgs play;
   CLI::App* playCmd = app.add_subcommand("play", "Play a level headless and print a summary");
   playCmd->add_option("level", play.level, "Level folder (holding level.toml) or .toml file")->required();
   playCmd->add_option("--keys", play.keys, "Keyboard script (a path, or a file name inside the level folder)");
-  playCmd->add_flag("--autopilot", play.autopilot, "Let the autopilot play a game level from what the robot perceives (not with --keys); on a map (plane = top, e.g. levels/garden) the garden pilot walks to targets drawn from --seed");
-  playCmd->add_option("--targets", play.targets, "The garden pilot's targets instead of random ones: a file with one 'x y' line (metres) per target, '#' comments");
+  playCmd->add_flag("--autopilot", play.autopilot,
+                    "Let the autopilot play a game level from what the robot perceives (not with --keys); on a map "
+                    "(plane = top, e.g. levels/garden) the garden pilot walks to targets drawn from --seed");
+  playCmd->add_option("--targets", play.targets,
+                      "The garden pilot's targets instead of random ones: a file with one 'x y' line (metres) per "
+                      "target, '#' comments");
   playCmd->add_option("--seconds", play.seconds, "Simulated seconds (default: script end + 2 s, or 10 s)")
       ->check(CLI::Range(0.01, 86400.0));
   playCmd->add_option("--seed", play.seed, "Random seed (default: the key script's seed line, else 1)");
   playCmd->add_option("--record", play.record, "Write a replay file");
   playCmd->add_option("--summary", play.summary, "Also write the summary to this file");
-  playCmd->add_option("--log", play.log, "Write the centre of mass at 50 Hz to a CSV file (time, skill, x, height, forward speed, y, heading, offset left of the feet; a garden run adds pelvis, velocity, commands, target, obstacle factor, roll, pitch, events)");
+  playCmd->add_option(
+      "--log", play.log,
+      "Write the centre of mass at 50 Hz to a CSV file (time, skill, x, height, forward speed, y, heading, offset left "
+      "of the feet; a garden run adds pelvis, velocity, commands, target, obstacle factor, roll, pitch, events)");
   playCmd->add_option("--expect", play.expect, "Exit 1 unless this holds: alive (no fall) or win")
       ->check(CLI::IsMember({"alive", "win"}));
   addOutputOptions(playCmd, &play.out);
@@ -407,57 +426,110 @@ int main(int argc, char** argv) {
   CLI::App* replayCmd = app.add_subcommand("replay", "Re-simulate a replay file");
   replayCmd->add_option("replay", replay.file, "Replay file written by play --record")->required();
   replayCmd->add_flag("--verify", replay.verify, "Check the recorded state hashes; report the first diverging tick");
-  replayCmd->add_option("--keys-out", replay.keysOut, "Also write the replay's key events as a key script, with its seed line (e.g. an autopilot run's keys)");
+  replayCmd->add_option(
+      "--keys-out", replay.keysOut,
+      "Also write the replay's key events as a key script, with its seed line (e.g. an autopilot run's keys)");
   addOutputOptions(replayCmd, &replay.out);
 
   VariantArgs variant;
   CLI::App* variantCmd = app.add_subcommand(
-      "variant", "Write a variant of a Mario-style course drawn from a seed (stairs, tunnel, question boxes, ball, ghost "
-                 "speed; ranges in levels/variant.h) to OUT/level.toml");
-  variantCmd->add_option("level", variant.level, "The course it varies: a level folder or .toml file (levels/mario)")->required();
-  variantCmd->add_option("--seed", variant.seed, "Seed of the variant (the same seed writes the same file)")->required();
+      "variant",
+      "Write a variant of a Mario-style course drawn from a seed (stairs, tunnel, question boxes, ball, ghost "
+      "speed; ranges in levels/variant.h) to OUT/level.toml");
+  variantCmd->add_option("level", variant.level, "The course it varies: a level folder or .toml file (levels/mario)")
+      ->required();
+  variantCmd->add_option("--seed", variant.seed, "Seed of the variant (the same seed writes the same file)")
+      ->required();
   variantCmd->add_option("--out", variant.out, "Folder to write level.toml into (created if missing)")->required();
 
   apps::BenchOptions bench;
   CLI::App* benchCmd = app.add_subcommand("bench", "Measure physics, rendering and play throughput");
-  benchCmd->add_option("--seconds", bench.seconds, "Simulated seconds per physics measurement")->check(CLI::Range(0.1, 3600.0));
+  benchCmd->add_option("--seconds", bench.seconds, "Simulated seconds per physics measurement")
+      ->check(CLI::Range(0.1, 3600.0));
   benchCmd->add_option("--frames", bench.frames, "Frames per rendering measurement")->check(CLI::Range(1, 100000));
   benchCmd->add_option("--csv", bench.csv, "Also write the results as CSV");
-  benchCmd->add_option("--autopilot", bench.autopilotSeeds, "Also play levels/mario by autopilot at seeds 1..N (two at a time) and report wins, winning times and falls")
+  benchCmd
+      ->add_option(
+          "--autopilot", bench.autopilotSeeds,
+          "Also play levels/mario by autopilot at seeds 1..N (two at a time) and report wins, winning times and falls")
       ->check(CLI::Range(1, 1000));
-  benchCmd->add_option("--variants", bench.variants, "Also play variants 1..N of levels/mario (treelearn variant) by autopilot (two at a time) and report each one's outcome, time and falls by skill, and the totals")
+  benchCmd
+      ->add_option("--variants", bench.variants,
+                   "Also play variants 1..N of levels/mario (treelearn variant) by autopilot (two at a time) and "
+                   "report each one's outcome, time and falls by skill, and the totals")
       ->check(CLI::Range(1, 1000));
 
   apps::TrainOptions train;
-  CLI::App* trainCmd = app.add_subcommand("train", "Train a skill with PPO (a branch starts from its parent); the model is exported into the run folder (install it with ship)");
+  CLI::App* trainCmd = app.add_subcommand("train",
+                                          "Train a skill with PPO (a branch starts from its parent); the model is "
+                                          "exported into the run folder (install it with ship)");
   trainCmd->add_option("skill", train.skill, "Skill name from assets/skills/tree.toml")->required();
-  trainCmd->add_option("--steps", train.steps, "Environment steps (default: the skill's budget)")->check(CLI::Range(int64_t(1), int64_t(10000000000)));
-  trainCmd->add_flag("--resume", train.resume, "Continue the run in the run folder exactly where its checkpoint stopped");
+  trainCmd->add_option("--steps", train.steps, "Environment steps (default: the skill's budget)")
+      ->check(CLI::Range(int64_t(1), int64_t(10000000000)));
+  trainCmd->add_flag("--resume", train.resume,
+                     "Continue the run in the run folder exactly where its checkpoint stopped");
   trainCmd->add_option("--threads", train.threads, "Threads stepping the environments")->check(CLI::Range(1, 64));
-  trainCmd->add_option("--envs", train.envs, "Parallel environments (must divide the PPO buffer)")->check(CLI::Range(1, 4096));
+  trainCmd->add_option("--envs", train.envs, "Parallel environments (must divide the PPO buffer)")
+      ->check(CLI::Range(1, 4096));
   trainCmd->add_option("--seed", train.seed, "Run seed (default 1)");
-  trainCmd->add_option("--run-dir", train.runDir, "Run folder for log.csv, checkpoint.bin, best.bin and the exported SKILL.onnx and SKILL.policy.bin (default runs/SKILL)");
-  trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")->check(CLI::Range(0, 100000));
-  trainCmd->add_option("--eval-episodes", train.evalEpisodes, "Episodes per report-card evaluation during training (default 10; more = a steadier choice of the best policy)")->check(CLI::Range(1, 1000));
-  trainCmd->add_option("--eval-confirm", train.evalConfirm, "Episodes of a second card, on other episodes, run when an evaluation beats the best confirmed so far; its score then picks best.bin (default 0: none; the evaluations always replay the same episodes, so their best reads high)")->check(CLI::Range(0, 1000));
-  trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd, "Branch init: raise the inherited log-std to at least this");
-  trainCmd->add_option("--init-log-std", train.initLogStd, "Branch or --init-from fine-tune: set the log-std to this (e.g. -2: less exploration noise around a precise prior or policy)")->check(CLI::Range(-5.0, 1.0));
-  trainCmd->add_option("--critic-warmup", train.criticWarmup, "Iterations at the start that update only the critic (a branch's inherited critic learns the branch's rewards before its advantages move the actor)")->check(CLI::Range(0, 100000));
-  trainCmd->add_flag("--freeze-normalizer", train.freezeNormalizer, "Keep the observation normaliser's statistics as loaded (fine-tuning on new states without moving the policy's inputs)");
-  trainCmd->add_flag("--zero-output", train.zeroOutput, "Branch init: zero the actor's output layer, so the branch starts as its own prior alone (hidden layers, critic, normaliser and log-std stay the parent's)");
-  trainCmd->add_option("--init-from", train.initFrom, "Start from this policy file (e.g. assets/skills/walk.policy.bin) to fine-tune");
-  trainCmd->add_option("--learning-rate", train.learningRate, "Initial learning rate instead of [ppo]'s learning_rate (a branch from its parent: branch_learning_rate, 3e-5 by default; e.g. 1e-4 to fine-tune with --init-from)");
-  trainCmd->add_option("--models-dir", train.modelsDir, "Folder the other skills' models are read from: the parent's policy, handover and card drivers (default: the tree file's folder, assets/skills); nothing is written there");
-  trainCmd->add_option("--export-from", train.exportFrom, "With --export-only: best (best.bin) or last (checkpoint.bin)")
+  trainCmd->add_option("--run-dir", train.runDir,
+                       "Run folder for log.csv, checkpoint.bin, best.bin and the exported SKILL.onnx and "
+                       "SKILL.policy.bin (default runs/SKILL)");
+  trainCmd->add_option("--eval-every", train.evalEvery, "Iterations between report-card evaluations (0 = never)")
+      ->check(CLI::Range(0, 100000));
+  trainCmd
+      ->add_option("--eval-episodes", train.evalEpisodes,
+                   "Episodes per report-card evaluation during training (default 10; more = a steadier choice of the "
+                   "best policy)")
+      ->check(CLI::Range(1, 1000));
+  trainCmd
+      ->add_option("--eval-confirm", train.evalConfirm,
+                   "Episodes of a second card, on other episodes, run when an evaluation beats the best confirmed so "
+                   "far; its score then picks best.bin (default 0: none; the evaluations always replay the same "
+                   "episodes, so their best reads high)")
+      ->check(CLI::Range(0, 1000));
+  trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd,
+                       "Branch init: raise the inherited log-std to at least this");
+  trainCmd
+      ->add_option("--init-log-std", train.initLogStd,
+                   "Branch or --init-from fine-tune: set the log-std to this (e.g. -2: less exploration noise around a "
+                   "precise prior or policy)")
+      ->check(CLI::Range(-5.0, 1.0));
+  trainCmd
+      ->add_option("--critic-warmup", train.criticWarmup,
+                   "Iterations at the start that update only the critic (a branch's inherited critic learns the "
+                   "branch's rewards before its advantages move the actor)")
+      ->check(CLI::Range(0, 100000));
+  trainCmd->add_flag("--freeze-normalizer", train.freezeNormalizer,
+                     "Keep the observation normaliser's statistics as loaded (fine-tuning on new states without moving "
+                     "the policy's inputs)");
+  trainCmd->add_flag("--zero-output", train.zeroOutput,
+                     "Branch init: zero the actor's output layer, so the branch starts as its own prior alone (hidden "
+                     "layers, critic, normaliser and log-std stay the parent's)");
+  trainCmd->add_option("--init-from", train.initFrom,
+                       "Start from this policy file (e.g. assets/skills/walk.policy.bin) to fine-tune");
+  trainCmd->add_option("--learning-rate", train.learningRate,
+                       "Initial learning rate instead of [ppo]'s learning_rate (a branch from its parent: "
+                       "branch_learning_rate, 3e-5 by default; e.g. 1e-4 to fine-tune with --init-from)");
+  trainCmd->add_option("--models-dir", train.modelsDir,
+                       "Folder the other skills' models are read from: the parent's policy, handover and card drivers "
+                       "(default: the tree file's folder, assets/skills); nothing is written there");
+  trainCmd
+      ->add_option("--export-from", train.exportFrom, "With --export-only: best (best.bin) or last (checkpoint.bin)")
       ->check(CLI::IsMember({"best", "last"}));
-  trainCmd->add_flag("--export-only", train.exportOnly, "Only export the run's policy (--export-from) to the run folder's SKILL.onnx and SKILL.policy.bin (no training)");
+  trainCmd->add_flag(
+      "--export-only", train.exportOnly,
+      "Only export the run's policy (--export-from) to the run folder's SKILL.onnx and SKILL.policy.bin (no training)");
 
   apps::ShipOptions ship;
   CLI::App* shipCmd = app.add_subcommand(
-      "ship", "Install a trained model: run its report card and, if it passes, copy RUN/SKILL.onnx and RUN/SKILL.policy.bin "
-              "into the tree's folder (assets/skills) and record the card there; exit 1 and install nothing if it fails");
+      "ship",
+      "Install a trained model: run its report card and, if it passes, copy RUN/SKILL.onnx and RUN/SKILL.policy.bin "
+      "into the tree's folder (assets/skills) and record the card there; exit 1 and install nothing if it fails");
   shipCmd->add_option("skill", ship.skill, "Skill name from the tree file")->required();
-  shipCmd->add_option("--from", ship.runDir, "Run folder holding the exported SKILL.onnx and SKILL.policy.bin, as train or train --export-only wrote them (default runs/SKILL)");
+  shipCmd->add_option("--from", ship.runDir,
+                      "Run folder holding the exported SKILL.onnx and SKILL.policy.bin, as train or train "
+                      "--export-only wrote them (default runs/SKILL)");
   shipCmd->add_flag("--force", ship.force, "Install even if the card fails (its record then says CARD FAILED)");
   shipCmd->add_option("--threads", ship.threads, "Threads for the card")->check(CLI::Range(1, 64));
 
@@ -465,16 +537,29 @@ int main(int argc, char** argv) {
 
   apps::EvalOptions eval;
   CLI::App* evalCmd = app.add_subcommand("eval", "Run a skill's report card in physics; exit 0 when it passes");
-  evalCmd->add_option("skill", eval.skill, "Skill name, 'switches' (every allowed skill switch) or 'all' (every card, then the switches)")->required();
+  evalCmd
+      ->add_option("skill", eval.skill,
+                   "Skill name, 'switches' (every allowed skill switch) or 'all' (every card, then the switches)")
+      ->required();
   evalCmd->add_option("--model", eval.model, "ONNX file to evaluate (default: the skill's model in assets/skills)");
-  evalCmd->add_option("--episodes", eval.episodes, "Episodes (default: the card's own count, 50 for walk); for switches: trials per switch (default 10)")->check(CLI::Range(1, 100000));
+  evalCmd
+      ->add_option(
+          "--episodes", eval.episodes,
+          "Episodes (default: the card's own count, 50 for walk); for switches: trials per switch (default 10)")
+      ->check(CLI::Range(1, 100000));
   evalCmd->add_option("--seed", eval.seed, "Seed (default 1)");
   evalCmd->add_option("--threads", eval.threads, "Threads")->check(CLI::Range(1, 64));
   evalCmd->add_flag("--sweep", eval.sweep, "Walk: hold fixed commands and print achieved against commanded speeds");
-  evalCmd->add_flag("--prior-only", eval.priorOnly, "Run the card with zero network output: what the skill's prior does by itself (no model needed)");
-  evalCmd->add_option("--sample", eval.samplePolicy, "Run the card with actions drawn from this policy file's Gaussian (its mean and log-std: the policy as training acts, seeded by --seed) instead of the ONNX model's mean; a diagnostic of training against the card");
-  evalCmd->add_flag("--verbose", eval.verbose, "Switches: list every failed trial (keys, moment, latency, time of the fall)");
-  evalCmd->add_option("--only", eval.only, "Switches: only the switches into or out of this skill (the same trials as in the full run)");
+  evalCmd->add_flag("--prior-only", eval.priorOnly,
+                    "Run the card with zero network output: what the skill's prior does by itself (no model needed)");
+  evalCmd->add_option(
+      "--sample", eval.samplePolicy,
+      "Run the card with actions drawn from this policy file's Gaussian (its mean and log-std: the policy as training "
+      "acts, seeded by --seed) instead of the ONNX model's mean; a diagnostic of training against the card");
+  evalCmd->add_flag("--verbose", eval.verbose,
+                    "Switches: list every failed trial (keys, moment, latency, time of the fall)");
+  evalCmd->add_option("--only", eval.only,
+                      "Switches: only the switches into or out of this skill (the same trials as in the full run)");
 
   try {
     app.parse(argc, argv);
@@ -492,8 +577,10 @@ int main(int argc, char** argv) {
     if (*shipCmd) return apps::runShip(ship);
     if (*evalCmd && eval.skill != "switches" && !eval.only.empty())
       throw engine::Error("--only picks the switches of one skill: it goes with eval switches");
-    if (*evalCmd && eval.skill == "switches" && (eval.priorOnly || eval.sweep || !eval.model.empty() || !eval.samplePolicy.empty()))
-      throw engine::Error("eval switches runs the shipped models: it takes no --prior-only, --sweep, --model or --sample");
+    if (*evalCmd && eval.skill == "switches" &&
+        (eval.priorOnly || eval.sweep || !eval.model.empty() || !eval.samplePolicy.empty()))
+      throw engine::Error(
+          "eval switches runs the shipped models: it takes no --prior-only, --sweep, --model or --sample");
     if (*evalCmd && eval.skill == "switches") {
       apps::SwitchEvalOptions sw;
       if (eval.episodes > 0) sw.trials = eval.episodes;

@@ -45,14 +45,16 @@ int runSwitchEval(const SwitchEvalOptions& o) {
   const robot::SkillSet skills = loadSkills(model);
   const levels::Level level = levels::loadLevel(engine::projectFile("levels/flat"));
   const game::SwitchMatrix m = game::runSwitchMatrix(level, model, skills, {o.trials, o.seed, o.threads, o.only});
-  std::printf("switch report: %zu allowed switches%s x %d trials on levels/flat (random moment 2-4 s, from lying 3-5 s, "
-              "out of a stand-up 1-4 s into it; random movement keys before and after; success = switched within %.0f s "
-              "of the key and no fall for %.0f s after the switch)\n",
-              m.rows.size(), o.only.empty() ? "" : (" (of " + std::to_string(m.allowed) + ", those of " + o.only + ")").c_str(),
-              o.trials, game::kSwitchMaxWaitSeconds, game::kSwitchAfterSeconds);
+  std::printf(
+      "switch report: %zu allowed switches%s x %d trials on levels/flat (random moment 2-4 s, from lying 3-5 s, "
+      "out of a stand-up 1-4 s into it; random movement keys before and after; success = switched within %.0f s "
+      "of the key and no fall for %.0f s after the switch)\n",
+      m.rows.size(), o.only.empty() ? "" : (" (of " + std::to_string(m.allowed) + ", those of " + o.only + ")").c_str(),
+      o.trials, game::kSwitchMaxWaitSeconds, game::kSwitchAfterSeconds);
   std::printf("  %-22s %8s %9s   %-27s %-27s\n", "switch", "success", "latency", "peak CoM accel [m/s^2]",
               "peak target step [rad]");
-  std::printf("  %-22s %8s %9s   %-27s %-27s\n", "", "", "[ticks]", "around switch / 1 s before", "around switch / 1 s before");
+  std::printf("  %-22s %8s %9s   %-27s %-27s\n", "", "", "[ticks]", "around switch / 1 s before",
+              "around switch / 1 s before");
   bool pass = true;
   double worstLatency = 0;
   for (const game::SwitchRow& row : m.rows) {
@@ -67,22 +69,25 @@ int runSwitchEval(const SwitchEvalOptions& o) {
     const bool good = rate >= o.barPercent;
     pass = pass && good;
     const std::string name = row.from->def.name + " -> " + row.to->def.name;
-    std::printf("  %-22s %7.0f%% %9.0f   %12.1f / %-12.1f %12.3f / %-12.3f %s\n", name.c_str(), rate, latency, accA, accB,
-                tgtA, tgtB, good ? "PASS" : "FAIL");
+    std::printf("  %-22s %7.0f%% %9.0f   %12.1f / %-12.1f %12.3f / %-12.3f %s\n", name.c_str(), rate, latency, accA,
+                accB, tgtA, tgtB, good ? "PASS" : "FAIL");
     if (o.verbose)
       for (size_t i = 0; i < row.trials.size(); ++i) {
         const game::SwitchTrial& t = row.trials[i];
         if (t.switched && t.upright) continue;
         auto key = [](char k) { return k ? std::string(1, k) : std::string("none"); };
         char fate[160];
-        if (t.upright) std::snprintf(fate, sizeof fate, "never switched");
+        if (t.upright)
+          std::snprintf(fate, sizeof fate, "never switched");
         else if (t.fallTick < t.switchTick)
-          std::snprintf(fate, sizeof fate, "fell %.2f s before the key under %s", double(t.switchTick - t.fallTick) * engine::kTickSeconds,
-                        t.fallSkill.c_str());
+          std::snprintf(fate, sizeof fate, "fell %.2f s before the key under %s",
+                        double(t.switchTick - t.fallTick) * engine::kTickSeconds, t.fallSkill.c_str());
         else
-          std::snprintf(fate, sizeof fate, "fell %.2f s after the key under %s (pelvis %.2f m, forward pitch %.0f deg, side lean %.0f deg)",
-                        double(t.fallTick - t.switchTick) * engine::kTickSeconds, t.fallSkill.c_str(), t.fallHeight,
-                        t.fallPitchDeg, t.fallLeanDeg);
+          std::snprintf(
+              fate, sizeof fate,
+              "fell %.2f s after the key under %s (pelvis %.2f m, forward pitch %.0f deg, side lean %.0f deg)",
+              double(t.fallTick - t.switchTick) * engine::kTickSeconds, t.fallSkill.c_str(), t.fallHeight,
+              t.fallPitchDeg, t.fallLeanDeg);
         char trialLatency[32] = "none";
         if (t.switched) std::snprintf(trialLatency, sizeof trialLatency, "%.0f ticks", t.latencyTicks);
         std::printf("      trial %zu: key %s before, %s after, switch key at %.2f s, latency %s, %s\n", i,
@@ -93,7 +98,8 @@ int runSwitchEval(const SwitchEvalOptions& o) {
   for (const std::string& u : m.untried) std::printf("  %s\n", u.c_str());
   std::printf("  worst switch latency: %.0f ticks (%.0f ms) from the key to the new skill's first control step\n",
               worstLatency, worstLatency * engine::kTickSeconds * 1000);
-  std::printf("  %s (bar: >= %.0f %% success on every switch)\n", pass ? "SWITCHES PASSED" : "SWITCHES FAILED", o.barPercent);
+  std::printf("  %s (bar: >= %.0f %% success on every switch)\n", pass ? "SWITCHES PASSED" : "SWITCHES FAILED",
+              o.barPercent);
   return pass ? 0 : 1;
 }
 

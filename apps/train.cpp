@@ -2,8 +2,8 @@
 // ai::trainSkill and the cards of ai/eval/skill_card.h, and what they print. Training exports into its run folder;
 // only `ship` (after the card) writes the models in the tree's folder. Files are written atomically by the layers
 // below.
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -43,8 +43,8 @@ struct PrintedCard {
   ai::CardResult result;
   std::string text;
 };
-PrintedCard printCard(const ai::SkillContext& l, const ai::PolicyFn& act, const ai::CardRun& run, const std::string& modelShown,
-                      const std::string& hash) {
+PrintedCard printCard(const ai::SkillContext& l, const ai::PolicyFn& act, const ai::CardRun& run,
+                      const std::string& modelShown, const std::string& hash) {
   const std::string head = ai::cardHead(l, run, modelShown, hash);
   std::fputs(head.c_str(), stdout);
   std::fflush(stdout);
@@ -66,9 +66,10 @@ int runTrain(const TrainOptions& o) {
   });
   if (r.stopped) return 130;  // stopped by Ctrl-C (128 + SIGINT, as a shell reports it)
   if (o.resume && r.iterationsRun == 0)
-    std::fprintf(stderr, "note: the checkpoint in %s is already at %lld env steps (iteration %lld), at or past --steps %lld: "
-                 "nothing was trained; give a larger --steps to go on\n", r.runDir.c_str(), (long long)r.envSteps,
-                 (long long)r.iteration, (long long)r.steps);
+    std::fprintf(stderr,
+                 "note: the checkpoint in %s is already at %lld env steps (iteration %lld), at or past --steps %lld: "
+                 "nothing was trained; give a larger --steps to go on\n",
+                 r.runDir.c_str(), (long long)r.envSteps, (long long)r.iteration, (long long)r.steps);
   return 0;
 }
 
@@ -82,14 +83,17 @@ int runEval(const EvalOptions& o) {
   const ai::SkillContext l = ai::loadSkillContext(o.skill);
   const ai::CardDef& def = l.skill->card;
   if (def.kind() == ai::CardKind::None)
-    throw engine::Error(l.tree.path + ": skill '" + o.skill + "' has no [skill." + o.skill + ".card] table, so it has no report card");
+    throw engine::Error(l.tree.path + ": skill '" + o.skill + "' has no [skill." + o.skill +
+                        ".card] table, so it has no report card");
   if (o.priorOnly && (o.sweep || !o.model.empty()))
     throw engine::Error("eval --prior-only runs the card with zero network output: it takes no --model or --sweep");
   if (!o.samplePolicy.empty() && (o.priorOnly || o.sweep || !o.model.empty()))
-    throw engine::Error("eval --sample draws the card's actions from a policy file: it takes no --prior-only, --model or --sweep");
-  const std::string onnxPath = o.priorOnly ? "none (the prior alone)"
+    throw engine::Error(
+        "eval --sample draws the card's actions from a policy file: it takes no --prior-only, --model or --sweep");
+  const std::string onnxPath = o.priorOnly               ? "none (the prior alone)"
                                : !o.samplePolicy.empty() ? o.samplePolicy + " (actions drawn from its Gaussian)"
-                               : o.model.empty() ? l.tree.directory + "/" + l.skill->model : o.model;
+                               : o.model.empty()         ? l.tree.directory + "/" + l.skill->model
+                                                         : o.model;
   std::unique_ptr<ai::LoadedPolicy> policy;
   std::unique_ptr<ai::PolicyState> sampled;  // --sample: mean and log-std, with a seeded noise stream
   std::mt19937_64 noise(o.seed * 0x9E3779B97F4A7C15ull + 17);
@@ -117,13 +121,14 @@ int runEval(const EvalOptions& o) {
     for (double vy : {-0.4, 0.4}) commands.push_back({0, vy, 0});
     for (double wz : {-1.0, 1.0}) commands.push_back({0, 0, wz});
     commands.push_back({0, 0, 0});
-    std::printf("%s speed sweep: each command held 10 s, no pushes, friction 1 (model %s)\n", o.skill.c_str(), onnxPath.c_str());
+    std::printf("%s speed sweep: each command held 10 s, no pushes, friction 1 (model %s)\n", o.skill.c_str(),
+                onnxPath.c_str());
     std::printf("  %6s %6s %6s   %7s %7s %7s   %s\n", "vx_cmd", "vy_cmd", "wz_cmd", "vx", "vy", "wz", "fall");
     for (const ai::SweepRow& r : ai::runSpeedSweep(l.model, *l.skill, act, commands, 10.0, o.threads)) {
       char fall[32] = "no";
       if (r.fell) std::snprintf(fall, sizeof fall, "at %.2f s", r.secondsUp);
-      std::printf("  %6.2f %6.2f %6.2f   %7.3f %7.3f %7.3f   %s\n", r.command.vx, r.command.vy, r.command.wz, r.mean.x(),
-                  r.mean.y(), r.mean.z(), fall);
+      std::printf("  %6.2f %6.2f %6.2f   %7.3f %7.3f %7.3f   %s\n", r.command.vx, r.command.vy, r.command.wz,
+                  r.mean.x(), r.mean.y(), r.mean.z(), fall);
     }
     return 0;
   }
@@ -143,8 +148,10 @@ int runEval(const EvalOptions& o) {
       std::printf("  RETENTION FAILED: the card differs from the one recorded for this model in %s\n", record.c_str());
       return 1;
     }
-    if (same) std::printf("  identical to the card recorded for this model in %s\n", record.c_str());
-    else engine::writeFileAtomic(record, text), std::printf("  recorded in %s\n", record.c_str());
+    if (same)
+      std::printf("  identical to the card recorded for this model in %s\n", record.c_str());
+    else
+      engine::writeFileAtomic(record, text), std::printf("  recorded in %s\n", record.c_str());
   }
   return r.pass ? 0 : 1;
 }
@@ -155,20 +162,21 @@ int runShip(const ShipOptions& o) {
   const ai::SkillSpec& skill = *l.skill;
   const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
   if (!fs::is_directory(runDir))
-    throw engine::Error(runDir + ": no such run folder (`treelearn train " + skill.name + " --run-dir " + runDir + "` makes one)");
+    throw engine::Error(runDir + ": no such run folder (`treelearn train " + skill.name + " --run-dir " + runDir +
+                        "` makes one)");
   const std::string onnxPath = ai::exportedModelPath(runDir, skill), policyPath = ai::exportedPolicyPath(runDir, skill);
   if (!fs::exists(onnxPath)) {
     std::string others;  // another skill's export in the folder: the wrong run, or the wrong skill named
     for (const auto& e : fs::directory_iterator(runDir))
       if (e.path().extension() == ".onnx") others += (others.empty() ? "" : ", ") + e.path().filename().string();
     throw engine::Error(onnxPath + ": the run folder holds no model of '" + skill.name + "' " +
-                        (others.empty() ? "(train exports it when it ends; `treelearn train " + skill.name + " --export-only --run-dir " +
-                                              runDir + "` exports the run's best)"
+                        (others.empty() ? "(train exports it when it ends; `treelearn train " + skill.name +
+                                              " --export-only --run-dir " + runDir + "` exports the run's best)"
                                         : "but " + others + ": a run of another skill?"));
   }
   if (!fs::exists(policyPath))
-    throw engine::Error(policyPath + ": missing next to " + onnxPath + " (a branch starts from it; `treelearn train " + skill.name +
-                        " --export-only --run-dir " + runDir + "` exports both)");
+    throw engine::Error(policyPath + ": missing next to " + onnxPath + " (a branch starts from it; `treelearn train " +
+                        skill.name + " --export-only --run-dir " + runDir + "` exports both)");
   {
     const ai::LoadedPolicy file = ai::loadPolicyOnnx(onnxPath);
     const auto it = file.metadata.find("treelearn.skill");
@@ -183,7 +191,8 @@ int runShip(const ShipOptions& o) {
   for (int k = 0; sameActor && k < state.actor.layers(); ++k)
     sameActor = same(state.actor.W[k], policy->actor.W[k]) && same(state.actor.b[k], policy->actor.b[k]);
   if (!sameActor)
-    throw engine::Error(policyPath + " and " + onnxPath + " hold different policies (not one export): export the run again");
+    throw engine::Error(policyPath + " and " + onnxPath +
+                        " hold different policies (not one export): export the run again");
 
   const std::string installedOnnx = l.tree.directory + "/" + skill.model;
   const std::string installedPolicy = l.tree.directory + "/" + skill.name + ".policy.bin";
@@ -191,7 +200,8 @@ int runShip(const ShipOptions& o) {
   char score[64] = "no card score";
   if (!std::isnan(info.score)) std::snprintf(score, sizeof score, "training card score %.3f", info.score);
   std::printf("shipping %s (hash %s; iteration %lld, %lld env steps, %s) as %s, if its report card passes:\n",
-              onnxPath.c_str(), hash.c_str(), (long long)info.iteration, (long long)info.envSteps, score, installedOnnx.c_str());
+              onnxPath.c_str(), hash.c_str(), (long long)info.iteration, (long long)info.envSteps, score,
+              installedOnnx.c_str());
   std::string record;  // the card as `eval` records it for the installed model
   if (skill.card.kind() == ai::CardKind::None) {
     if (!o.force)
@@ -200,14 +210,15 @@ int runShip(const ShipOptions& o) {
     std::printf("  no report card for '%s': installed without one (--force)\n", skill.name.c_str());
   } else {
     const PrintedCard card = printCard(
-        l, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); }, ai::CardRun{skill.card, 1, o.threads},
-        installedOnnx, hash);
+        l, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); },
+        ai::CardRun{skill.card, 1, o.threads}, installedOnnx, hash);
     if (!card.result.pass) {
       std::string failed;
       for (const ai::CardFigure& f : card.result.figures)
         if (f.bar[0] != '(' && !f.pass) {
           char b[256];
-          std::snprintf(b, sizeof b, "%s%s %.3f, bar %s", failed.empty() ? "" : "; ", f.name.c_str(), f.value, f.bar.c_str());
+          std::snprintf(b, sizeof b, "%s%s %.3f, bar %s", failed.empty() ? "" : "; ", f.name.c_str(), f.value,
+                        f.bar.c_str());
           failed += b;
         }
       if (!o.force) {
@@ -230,14 +241,16 @@ int runShip(const ShipOptions& o) {
 
 int runEvalAll(const EvalOptions& o) {
   if (o.priorOnly || o.sweep || !o.model.empty())
-    throw engine::Error("eval all runs every shipped model's card and the switches: it takes no --prior-only, --sweep or --model");
+    throw engine::Error(
+        "eval all runs every shipped model's card and the switches: it takes no --prior-only, --sweep or --model");
   const robot::RobotModel model = robot::loadRobotModel(engine::projectFile("assets/robots/g1_23dof.toml"));
   const ai::TrainingTree tree = ai::loadTrainingTree(robot::defaultSkillTreePath(), model);
   std::vector<std::pair<std::string, std::string>> results;
   int connected = 0;
   for (const ai::SkillSpec& s : tree.skills) {
     const bool hasModel = std::filesystem::exists(tree.directory + "/" + s.model);
-    connected += hasModel && !s.parent.empty() && std::filesystem::exists(tree.directory + "/" + tree.find(s.parent)->model);
+    connected +=
+        hasModel && !s.parent.empty() && std::filesystem::exists(tree.directory + "/" + tree.find(s.parent)->model);
     if (!hasModel) {
       results.push_back({s.name, "FAIL (no model: treelearn train " + s.name + ")"});
       continue;

@@ -9,26 +9,26 @@
 namespace game {
 namespace {
 
-constexpr double kGhostRun = 4.0;        // run while a ghost is this close
-constexpr double kStairsStart = 2.0;     // stop this far before a step, then the stairs from rest (from the walk's
-                                         // 0.7 m/s they fell at the first step)
-constexpr double kStairsSlow = 3.0;      // leave run for walk this far before a step
-constexpr double kCeilingStart = 1.8;    // lie down this far before a tunnel (the body falls ~1 m ahead)
-constexpr double kProneY = 0.3;          // lie down this far left of the middle: from the walk's stance the prone
-                                         // falls ~0.4 m to the right, and the crawl drifts on rightward
-constexpr double kCeilingClear = 1.2;    // stand up this far past the tunnel's end (the stand-up kneels back ~0.8 m)
-constexpr double kBallAlignAt = 0.8;     // stop and line up with the ball this far before it (the walk stops in ~0.4 m)
-constexpr double kBallKick = 0.30;       // the kick's card: the ball 0.30 m ahead of the pelvis ...
-constexpr double kBallSide = -0.12;      // ... and 0.12 m to its right (in front of the right foot)
+constexpr double kGhostRun = 4.0;      // run while a ghost is this close
+constexpr double kStairsStart = 2.0;   // stop this far before a step, then the stairs from rest (from the walk's
+                                       // 0.7 m/s they fell at the first step)
+constexpr double kStairsSlow = 3.0;    // leave run for walk this far before a step
+constexpr double kCeilingStart = 1.8;  // lie down this far before a tunnel (the body falls ~1 m ahead)
+constexpr double kProneY = 0.3;        // lie down this far left of the middle: from the walk's stance the prone
+                                       // falls ~0.4 m to the right, and the crawl drifts on rightward
+constexpr double kCeilingClear = 1.2;  // stand up this far past the tunnel's end (the stand-up kneels back ~0.8 m)
+constexpr double kBallAlignAt = 0.8;   // stop and line up with the ball this far before it (the walk stops in ~0.4 m)
+constexpr double kBallKick = 0.30;     // the kick's card: the ball 0.30 m ahead of the pelvis ...
+constexpr double kBallSide = -0.12;    // ... and 0.12 m to its right (in front of the right foot)
 // kick only from the card's spot, within these: a line-up that timed out or ran out of steps, or a ball that moved
 // during the one-leg stand, lines up again
 // (the ball measured in the pelvis's heading frame). The one-leg stand turns the robot by up to ~0.3 rad: after it
 // the kick may face up to kKickYawTol off +X (the goal spans the course; over autopilot seeds 1-40 the ball phase
 // took 39 s on average against 48 s with 0.10, most of the saving line-ups after the stand)
 constexpr double kBallAheadTol = 0.08, kBallSideTol = 0.06, kBallYawTol = 0.10, kKickYawTol = 0.25;
-constexpr double kBallBehind = 1.5;      // a ball up to this far behind the pelvis is still to be kicked: back up to it
-constexpr double kBallClear = 0.45;      // step this far to the side of it before backing up (not into it)
-constexpr double kBallReach = 0.75;      // line up at most this far off the course's middle (the walls are at +-1.0)
+constexpr double kBallBehind = 1.5;  // a ball up to this far behind the pelvis is still to be kicked: back up to it
+constexpr double kBallClear = 0.45;  // step this far to the side of it before backing up (not into it)
+constexpr double kBallReach = 0.75;  // line up at most this far off the course's middle (the walls are at +-1.0)
 // a ball too near the left wall for the right-footed kick's spot (the pelvis would have to be kBallSide left of the
 // wall's reach) is pushed on instead: the robot lines up with the ball in front of its left foot and walks through it
 // (the goal spans the course, so a ball rolled along the wall goes in as well as a kicked one)
@@ -37,23 +37,23 @@ constexpr double kDribbleYaw = 0.1;     // facing a little toward the wall: the 
                                         // and walking straight the left foot passed beside a ball resting there
 constexpr double kDribblePassed = 0.3;  // walk on until the ball is this far behind the pelvis (the robot got past
                                         // it), or it rolled away from the wall, or kDribbleTimeout
-constexpr double kOffLine = 0.45;        // walking this far off y = 0 (or kOffHeading off +X) with nothing close: re-align
+constexpr double kOffLine = 0.45;  // walking this far off y = 0 (or kOffHeading off +X) with nothing close: re-align
 constexpr double kOffHeading = 0.3;
-constexpr double kRestSpeed = 0.06;      // at rest for the align steps [m/s]
-constexpr double kKeyRamp = 2.0;         // the keys' velocity ramp [m/s^2] and turn ramp [rad/s^2] (engine/input)
+constexpr double kRestSpeed = 0.06;  // at rest for the align steps [m/s]
+constexpr double kKeyRamp = 2.0;     // the keys' velocity ramp [m/s^2] and turn ramp [rad/s^2] (engine/input)
 constexpr double kTurnRamp = 3.0;
-constexpr double kProneHeight = 0.40;    // lying when the pelvis is this low
-constexpr double kStoodHeight = 0.70;    // standing again
+constexpr double kProneHeight = 0.40;   // lying when the pelvis is this low
+constexpr double kStoodHeight = 0.70;   // standing again
 constexpr double kFlightHeight = 0.86;  // pelvis [m] above which a jump has left the ground (standing: 0.78)
 // kBalanceTicks: the one-leg stand before the kick. Over 10 seeds of levels/mario the kick fell 37 times after
-// 1.5 s of it, 22 after 3 s, 18 after 5 s (the same 6 wins as 1.5 s), 17 after 8 s (4 wins: the waits ran the clock out).
-// Counted from the stand's takeover (the switch into it waits up to 3 s for the robot to stop drifting,
+// 1.5 s of it, 22 after 3 s, 18 after 5 s (the same 6 wins as 1.5 s), 17 after 8 s (4 wins: the waits ran the clock
+// out). Counted from the stand's takeover (the switch into it waits up to 3 s for the robot to stop drifting,
 // robot::kSettleDrift; counted from the key, as before, the stand shrank to 2 s and seeds 3 and 9 of 1-60 ran out of
 // time re-lining up); kBalanceTimeout from the key, in case the stand never takes over.
 constexpr int64_t kBalanceTimeout = 700;
 constexpr int64_t kProneLie = 300, kProneTimeout = 600, kStandTimeout = 600, kJumpTimeout = 400, kBalanceTicks = 400,
-                  kKickTicks = 250, kRecoverTicks = 150, kSettleTicks = 40, kAlignTimeout = 1500, kApproachTimeout = 1500,
-                  kBackUpTimeout = 600, kDribbleTimeout = 2000;
+                  kKickTicks = 250, kRecoverTicks = 150, kSettleTicks = 40, kAlignTimeout = 1500,
+                  kApproachTimeout = 1500, kBackUpTimeout = 600, kDribbleTimeout = 2000;
 constexpr int kAlignTries = 4;
 constexpr int kMaxPulses = 8;
 constexpr int64_t kPulseTicks = 15;
@@ -120,20 +120,34 @@ SkillKeys skillKeys(const robot::SkillSet& skills) {
 
 const char* Autopilot::modeName(Mode m) {
   switch (m) {
-    case Mode::Walk: return "walk";
-    case Mode::Run: return "run";
-    case Mode::Stairs: return "stairs";
-    case Mode::Prone: return "prone";
-    case Mode::Crawl: return "crawl";
-    case Mode::StandUp: return "stand up";
-    case Mode::Jump: return "jump";
-    case Mode::Align: return "align";
-    case Mode::Approach: return "approach";
-    case Mode::Balance: return "balance";
-    case Mode::Kick: return "kick";
-    case Mode::Recover: return "recover";
-    case Mode::BackUp: return "back up";
-    case Mode::Dribble: return "dribble";
+    case Mode::Walk:
+      return "walk";
+    case Mode::Run:
+      return "run";
+    case Mode::Stairs:
+      return "stairs";
+    case Mode::Prone:
+      return "prone";
+    case Mode::Crawl:
+      return "crawl";
+    case Mode::StandUp:
+      return "stand up";
+    case Mode::Jump:
+      return "jump";
+    case Mode::Align:
+      return "align";
+    case Mode::Approach:
+      return "approach";
+    case Mode::Balance:
+      return "balance";
+    case Mode::Kick:
+      return "kick";
+    case Mode::Recover:
+      return "recover";
+    case Mode::BackUp:
+      return "back up";
+    case Mode::Dribble:
+      return "dribble";
   }
   return "?";
 }
@@ -142,8 +156,10 @@ void Autopilot::hold(int64_t tick, char key, bool down, std::vector<engine::KeyE
   const size_t at = held_.find(key);
   if (down == (at != std::string::npos)) return;
   out->push_back({tick, down ? engine::KeyAction::kDown : engine::KeyAction::kUp, key});
-  if (down) held_ += key;
-  else held_.erase(at, 1);
+  if (down)
+    held_ += key;
+  else
+    held_.erase(at, 1);
 }
 
 void Autopilot::releaseAll(int64_t tick, std::vector<engine::KeyEvent>* out) {
@@ -184,8 +200,10 @@ bool Autopilot::align(int64_t tick, const Cues& c, std::vector<engine::KeyEvent>
   }
   if (held_.empty() && !settled) return false;
   if (alignStep_ == 1) {  // turn toward +X
-    if (held_.empty() && (std::abs(yawError) < alignYawTol_ || alignTries_ >= kAlignTries)) alignStep_ = 2;
-    else nudge(tick, yawError, c.commandWz, kTurnRamp, alignYawTol_, 'A', 'D', out);
+    if (held_.empty() && (std::abs(yawError) < alignYawTol_ || alignTries_ >= kAlignTries))
+      alignStep_ = 2;
+    else
+      nudge(tick, yawError, c.commandWz, kTurnRamp, alignYawTol_, 'A', 'D', out);
     return false;
   }
   // step sideways to the line
@@ -270,7 +288,8 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       } else if (c.boxOverhead && c.canJump && std::abs(c.x - jumpedAtX_) > 1.0) {
         jumpedAtX_ = c.x, flew_ = false;
         enter(tick, Mode::Jump, keys_.jump, false, &out);
-      } else if (c.ceilingAhead < kCeilingStart) {  // stop square to the course a little left of its middle, then lie down
+      } else if (c.ceilingAhead <
+                 kCeilingStart) {  // stop square to the course a little left of its middle, then lie down
         enter(tick, Mode::Align, 0, false, &out);
         alignY_ = kProneY, alignYTol_ = 0.08, alignYawTol_ = 0.05, afterAlign_ = Mode::Prone;
       } else if (c.stepAhead < kStairsStart) {
@@ -319,8 +338,10 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       if (c.ballAhead <= kBallKick - 0.15 && held_.empty()) {
         backOffBall(tick, c, &out);
       } else if (approach(tick, c, &out) || in > kApproachTimeout) {
-        if (atKickSpot(c, kBallYawTol)) enter(tick, Mode::Balance, keys_.oneLeg, false, &out);
-        else lineUpWithBall(tick, c, &out);
+        if (atKickSpot(c, kBallYawTol))
+          enter(tick, Mode::Balance, keys_.oneLeg, false, &out);
+        else
+          lineUpWithBall(tick, c, &out);
       }
       break;
     case Mode::Stairs:
@@ -351,8 +372,10 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       }
       break;
     case Mode::Crawl:
-      if (c.underCeiling) ceilingEndX_ = c.x;
-      else if (c.x - ceilingEndX_ > kCeilingClear) enter(tick, Mode::StandUp, keys_.walk, false, &out);  // routed via standup
+      if (c.underCeiling)
+        ceilingEndX_ = c.x;
+      else if (c.x - ceilingEndX_ > kCeilingClear)
+        enter(tick, Mode::StandUp, keys_.walk, false, &out);  // routed via standup
       break;
     case Mode::StandUp:
       if ((c.pelvisHeight > kStoodHeight && in > 100) || in > kStandTimeout) enter(tick, Mode::Walk, 0, true, &out);
@@ -367,11 +390,15 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
       }
       break;
     case Mode::Balance:
-      if (c.skill != "one_leg") standSince_ = -1;
-      else if (standSince_ < 0) standSince_ = tick;
+      if (c.skill != "one_leg")
+        standSince_ = -1;
+      else if (standSince_ < 0)
+        standSince_ = tick;
       if ((standSince_ >= 0 && tick - standSince_ >= kBalanceTicks) || in > kBalanceTimeout) {
-        if (atKickSpot(c, kKickYawTol)) enter(tick, Mode::Kick, keys_.kick, false, &out);
-        else enter(tick, Mode::Walk, keys_.walk, false, &out);  // the walk's rules line it up again (or back up)
+        if (atKickSpot(c, kKickYawTol))
+          enter(tick, Mode::Kick, keys_.kick, false, &out);
+        else
+          enter(tick, Mode::Walk, keys_.walk, false, &out);  // the walk's rules line it up again (or back up)
       }
       break;
     case Mode::Kick:

@@ -32,7 +32,7 @@ class Session;
 
 /// What the autopilot perceives in one tick (from the Session; all distances along +X from the pelvis).
 struct Cues {
-  double x = 0;               ///< pelvis x [m]
+  double x = 0;  ///< pelvis x [m]
   double pelvisHeight = 0.78;
   double stepAhead = 1e9;     ///< distance to an obstacle at shin height (0.05 m) [m]
   double ceilingAhead = 1e9;  ///< distance to an obstacle at 0.7 m that has open space at 0.3 m (a tunnel)
@@ -43,14 +43,14 @@ struct Cues {
   double ballAhead = 1e9;     ///< ball centre x minus pelvis x (1e9: no ball)
   bool boxJustHit = false;    ///< the course reported a box hit this tick
   // the robot's own state (odometry and the key state, as a player sees the robot)
-  double y = 0;               ///< pelvis y: across the course [m]
-  double yaw = 0;             ///< pelvis heading [rad], 0 = along +X
-  double speed = 0;           ///< horizontal pelvis speed [m/s]
+  double y = 0;                                        ///< pelvis y: across the course [m]
+  double yaw = 0;                                      ///< pelvis heading [rad], 0 = along +X
+  double speed = 0;                                    ///< horizontal pelvis speed [m/s]
   double commandVx = 0, commandVy = 0, commandWz = 0;  ///< the keys' ramped command now
-  int respawns = 0;           ///< times the robot has been put back at a checkpoint so far
-  bool canJump = true;        ///< the jump has a loaded model
-  double ballY = 0;           ///< ball centre y [m]
-  std::string skill;          ///< the skill in control, as the HUD names it ("stand": the standing controller)
+  int respawns = 0;                                    ///< times the robot has been put back at a checkpoint so far
+  bool canJump = true;                                 ///< the jump has a loaded model
+  double ballY = 0;                                    ///< ball centre y [m]
+  std::string skill;  ///< the skill in control, as the HUD names it ("stand": the standing controller)
 };
 
 /// Reads the cues from a running session.
@@ -67,7 +67,22 @@ class Autopilot {
  public:
   explicit Autopilot(const SkillKeys& keys) : keys_(keys) {}
 
-  enum class Mode { Walk, Run, Stairs, Prone, Crawl, StandUp, Jump, Align, Approach, Balance, Kick, Recover, BackUp, Dribble };
+  enum class Mode {
+    Walk,
+    Run,
+    Stairs,
+    Prone,
+    Crawl,
+    StandUp,
+    Jump,
+    Align,
+    Approach,
+    Balance,
+    Kick,
+    Recover,
+    BackUp,
+    Dribble
+  };
 
   /// The key events for this tick, given what the robot perceives.
   std::vector<engine::KeyEvent> decide(int64_t tick, const Cues& cues);
@@ -95,23 +110,23 @@ class Autopilot {
 
   Mode mode_ = Mode::Walk;
   bool started_ = false;
-  std::string held_;          // movement keys held now (W S A D Q E)
+  std::string held_;  // movement keys held now (W S A D Q E)
   int respawnsSeen_ = 0;
   // Align / Approach: the target, the tolerances, the step (stop, turn, side) and when the last key went up
   double alignY_ = 0, alignYTol_ = 0.1, alignYawTol_ = 0.1, alignYaw_ = 0;  // alignYaw_: the heading to face
   Mode afterAlign_ = Mode::Walk;
   int alignStep_ = 0, alignTries_ = 0;
   int64_t keyUpTick_ = -1;
-  int pulses_ = 0;            // Approach: short W / S presses so far ...
-  int64_t pulseTick_ = 0;     // ... and when the latest began
-  double jumpedAtX_ = -1e9;   // where the last jump was (one per box)
-  int64_t standSince_ = -1;   // Balance: the tick the one-leg stand took over (-1: not yet)
-  bool flew_ = false;         // the jump in progress has left the ground once
+  int pulses_ = 0;              // Approach: short W / S presses so far ...
+  int64_t pulseTick_ = 0;       // ... and when the latest began
+  double jumpedAtX_ = -1e9;     // where the last jump was (one per box)
+  int64_t standSince_ = -1;     // Balance: the tick the one-leg stand took over (-1: not yet)
+  bool flew_ = false;           // the jump in progress has left the ground once
   bool stairsStarted_ = false;  // Stairs mode: at rest and the stairs key pressed ...
   bool climbed_ = false;        // ... and up the first step (higher than standing on flat ground)
-  int64_t since_ = 0;        // tick the current mode began
-  double ceilingEndX_ = -1e9;  // last x seen under the tunnel ceiling
-  double flatSince_ = -1;    // x where stairs mode last saw flat ground
+  int64_t since_ = 0;           // tick the current mode began
+  double ceilingEndX_ = -1e9;   // last x seen under the tunnel ceiling
+  double flatSince_ = -1;       // x where stairs mode last saw flat ground
 };
 
 }  // namespace game

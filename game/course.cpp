@@ -15,20 +15,22 @@ namespace {
 constexpr uint32_t kCoinColour = 0xffd700ff, kGiftColour = 0xff4fa3ff;
 constexpr uint32_t kBoxColour = 0xf5b041ff, kUsedBoxColour = 0x8b5a2bff;
 constexpr uint32_t kGhostColour = 0xeef0ffb0, kBallColour = 0xf4f4f4ff, kGoalColour = 0x40c04050;
-constexpr double kReleaseRise = 0.4;        // a release pops this far above its box [m] ...
+constexpr double kReleaseRise = 0.4;         // a release pops this far above its box [m] ...
 constexpr double kReleaseRiseSeconds = 0.4;  // ... in this long, then floats down in front of it
 constexpr double kReleaseSettleSeconds = 0.8;
-constexpr double kReleaseForward = 0.6;     // where it settles: this far past the box, at kReleaseHeight
+constexpr double kReleaseForward = 0.6;  // where it settles: this far past the box, at kReleaseHeight
 constexpr double kReleaseHeight = 0.9;
-constexpr double kHitMargin = 0.03;         // a head or hand this close below a box counts as touching it
-constexpr double kHitUpSpeed = 0.05;        // ... if the pelvis moves up at least this fast [m/s]
+constexpr double kHitMargin = 0.03;   // a head or hand this close below a box counts as touching it
+constexpr double kHitUpSpeed = 0.05;  // ... if the pelvis moves up at least this fast [m/s]
 
 double smooth(double t) { return t <= 0 ? 0 : t >= 1 ? 1 : t * t * (3 - 2 * t); }
 
 }  // namespace
 
 Course::Course(const levels::Level& level, engine::PhysicsWorld& physics, engine::PlaneWorld& plane)
-    : rules_(level.rules), timeLimit_(level.isGame() ? level.timeLimit : 0.0), goals_(level.goals),
+    : rules_(level.rules),
+      timeLimit_(level.isGame() ? level.timeLimit : 0.0),
+      goals_(level.goals),
       checkpointX_(level.spawn.x()) {
   for (const levels::CoinDef& c : level.coins) {
     Collectable item;
@@ -101,8 +103,9 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
         item.from = Eigen::Vector3d(b.def.centre.x(), b.def.centre.y(), b.def.centre.z() + half.z() + 0.15);
         item.position = item.from;
         items_.push_back(item);
-        log(tick, CourseEventKind::BoxHit, std::string("question box at x = ") + std::to_string(b.def.centre.x()).substr(0, 5) + " hit: a " +
-                      (b.def.gift ? "gift" : "coin") + " pops out");
+        log(tick, CourseEventKind::BoxHit,
+            std::string("question box at x = ") + std::to_string(b.def.centre.x()).substr(0, 5) + " hit: a " +
+                (b.def.gift ? "gift" : "coin") + " pops out");
         break;
       }
     }
@@ -124,7 +127,8 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
         c.collected = true;
         (c.gift ? gifts_ : coins_) += 1;
         score_ += c.gift ? rules_.giftValue : rules_.coinValue;
-        log(tick, CourseEventKind::Collected, std::string(c.gift ? "gift" : "coin") + " collected (score " + std::to_string(score_) + ")");
+        log(tick, CourseEventKind::Collected,
+            std::string(c.gift ? "gift" : "coin") + " collected (score " + std::to_string(score_) + ")");
         break;
       }
   }
@@ -137,9 +141,12 @@ void Course::update(int64_t tick, const robot::Sensors& sensors, const std::vect
     if (!g.awake && pelvis.x() >= g.def.appearX) {
       g.awake = true;
       const Eigen::Vector2d start(pelvis.x() - g.def.behind, g.def.height);
-      if (g.body < 0) g.body = plane.addKinematicCircle(start, g.def.radius, -1);
-      else plane.setPosition(g.body, start);
-      log(tick, CourseEventKind::GhostAppears, "a ghost appears " + std::to_string(g.def.behind).substr(0, 4) + " m behind");
+      if (g.body < 0)
+        g.body = plane.addKinematicCircle(start, g.def.radius, -1);
+      else
+        plane.setPosition(g.body, start);
+      log(tick, CourseEventKind::GhostAppears,
+          "a ghost appears " + std::to_string(g.def.behind).substr(0, 4) + " m behind");
     }
     if (g.park) {  // asleep again after a respawn: still, and out of the way of the autopilot's ray casts
       g.park = false;
@@ -197,8 +204,9 @@ bool Course::onFall(int64_t tick) {
   if (int(fallsHere_.size()) == kRespawnLoopFalls &&
       double(tick - fallsHere_.front()) * engine::kTickSeconds <= kRespawnLoopSeconds) {
     char what[160];
-    std::snprintf(what, sizeof what, "fell %d times within %.1f s back to x = %.2f, -%d: a respawn loop", kRespawnLoopFalls,
-                  double(tick - fallsHere_.front()) * engine::kTickSeconds, checkpointX_, rules_.fallPenalty);
+    std::snprintf(what, sizeof what, "fell %d times within %.1f s back to x = %.2f, -%d: a respawn loop",
+                  kRespawnLoopFalls, double(tick - fallsHere_.front()) * engine::kTickSeconds, checkpointX_,
+                  rules_.fallPenalty);
     log(tick, CourseEventKind::RespawnLoop, what);
     char reason[120];
     std::snprintf(reason, sizeof reason, "a respawn loop (%d falls within %.0f s back to the checkpoint at x = %.2f)",
@@ -206,7 +214,8 @@ bool Course::onFall(int64_t tick) {
     finish(tick, Outcome::Lost, reason);
     return false;
   }
-  log(tick, CourseEventKind::Fell, "fell: back to x = " + std::to_string(checkpointX_).substr(0, 5) + ", -" + std::to_string(rules_.fallPenalty));
+  log(tick, CourseEventKind::Fell,
+      "fell: back to x = " + std::to_string(checkpointX_).substr(0, 5) + ", -" + std::to_string(rules_.fallPenalty));
   // a ghost that woke beyond the checkpoint goes back to sleep: it wakes again (behind, at its first speed) when the
   // robot passes its appear_x again (before, a respawn at the start put the robot under the chasing ghost)
   for (Ghost& g : ghosts_)
@@ -217,7 +226,8 @@ bool Course::onFall(int64_t tick) {
   return true;
 }
 
-void Course::draw(const engine::PhysicsWorld& physics, const engine::PlaneWorld& plane, engine::SceneSnapshot* out) const {
+void Course::draw(const engine::PhysicsWorld& physics, const engine::PlaneWorld& plane,
+                  engine::SceneSnapshot* out) const {
   auto sphere = [&](const Eigen::Vector3d& p, double r, uint32_t rgba) {
     engine::DrawShape d;
     d.kind = engine::ShapeKind::Sphere;

@@ -94,10 +94,10 @@ class Course {
   };
   struct Ghost {
     levels::GhostDef def;
-    int body = -1;        // PlaneWorld kinematic circle, once awake
+    int body = -1;  // PlaneWorld kinematic circle, once awake
     bool awake = false, gone = false;
     double speed = 0;
-    bool park = false;    // put to sleep by a fall: move the body out of the way at the next update
+    bool park = false;  // put to sleep by a fall: move the body out of the way at the next update
   };
   struct Ball {
     engine::BallId id = -1;

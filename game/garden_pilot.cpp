@@ -43,15 +43,17 @@ std::vector<Eigen::Vector2d> parseTargets(const std::string& text, const std::st
     for (std::string w; fields >> w;) words.push_back(w);
     if (words.empty()) continue;
     if (words.size() != 2)
-      throw engine::Error(engine::located(fileName, number, "a target is two numbers, \"x y\" in metres (got " +
-                                                                std::to_string(words.size()) + " fields)"));
+      throw engine::Error(engine::located(
+          fileName, number,
+          "a target is two numbers, \"x y\" in metres (got " + std::to_string(words.size()) + " fields)"));
     Eigen::Vector2d t;
     for (int i = 0; i < 2; ++i) {
       const std::string& w = words[size_t(i)];
       char* end = nullptr;
       const double v = std::strtod(w.c_str(), &end);
       if (end == w.c_str() || *end != '\0' || !std::isfinite(v) || std::abs(v) > 1000.0)
-        throw engine::Error(engine::located(fileName, number, "'" + w + "' is not a coordinate in metres (a number within +-1000)"));
+        throw engine::Error(
+            engine::located(fileName, number, "'" + w + "' is not a coordinate in metres (a number within +-1000)"));
       t[i] = v;
     }
     out.push_back(t);
@@ -72,10 +74,14 @@ double brakeDistance(double vx, const GardenKeyParams& p) {
 
 const char* GardenKeys::modeName(Mode m) {
   switch (m) {
-    case Mode::Stop: return "stop";
-    case Mode::Turn: return "turn";
-    case Mode::Go: return "go";
-    case Mode::Back: return "back";
+    case Mode::Stop:
+      return "stop";
+    case Mode::Turn:
+      return "turn";
+    case Mode::Go:
+      return "go";
+    case Mode::Back:
+      return "back";
   }
   return "?";
 }
@@ -84,8 +90,10 @@ void GardenKeys::hold(int64_t tick, char key, bool down, std::vector<engine::Key
   const size_t at = held_.find(key);
   if (down == (at != std::string::npos)) return;
   out->push_back({tick, down ? engine::KeyAction::kDown : engine::KeyAction::kUp, key});
-  if (down) held_ += key;
-  else held_.erase(at, 1);
+  if (down)
+    held_ += key;
+  else
+    held_.erase(at, 1);
 }
 
 void GardenKeys::releaseMoves(int64_t tick, std::vector<engine::KeyEvent>* out) {
@@ -177,14 +185,16 @@ std::vector<engine::KeyEvent> GardenKeys::decide(int64_t tick, const LegCues& c)
       bool stop = !c.haveLeg || c.legRemaining <= brakeDistance(c.commandVx, p_);
       if (!goStairs_) {
         stop = stop || c.pathChanged || c.movableAhead || c.stairsLeg;  // a stairs leg begins from a stop, squared up
-        stop = stop || c.obstacleFactor < p_.wallStopFactor;           // a wall right ahead: the leg went wrong
+        stop = stop || c.obstacleFactor < p_.wallStopFactor;            // a wall right ahead: the leg went wrong
         // the bearing to the leg's end has turned away from the heading the leg started on: the walk drifted sideways
         const double drift = std::remainder(c.legHeading - goHeading_, 2.0 * M_PI);
         stop = stop || (std::abs(drift) > p_.returnHeading && c.legRemaining > p_.returnDistance);
         if (!stop && keys_.run && p_.useRun) {
           // the run takes over from a walk at speed (from a standstill it fell within 2 s)
-          if (c.runAllowed && c.legRemaining >= p_.runMinLeg && c.speed >= p_.runFromSpeed) skill(tick, keys_.run, &out);
-          else if (skill_ == keys_.run && (c.legRemaining < p_.runLeaveLeg || !c.runAllowed)) skill(tick, keys_.walk, &out);
+          if (c.runAllowed && c.legRemaining >= p_.runMinLeg && c.speed >= p_.runFromSpeed)
+            skill(tick, keys_.run, &out);
+          else if (skill_ == keys_.run && (c.legRemaining < p_.runLeaveLeg || !c.runAllowed))
+            skill(tick, keys_.walk, &out);
         }
       }
       if (stop) {
@@ -325,8 +335,10 @@ std::vector<engine::KeyEvent> GardenPilot::decide(int64_t tick, const Session& s
     nextTarget(p);
     event("target");
   }
-  if (yaws_.size() < size_t(kYawWindow)) yaws_.push_back(s.yaw);
-  else yaws_[yawNext_] = s.yaw;
+  if (yaws_.size() < size_t(kYawWindow))
+    yaws_.push_back(s.yaw);
+  else
+    yaws_[yawNext_] = s.yaw;
   yawNext_ = (yawNext_ + 1) % size_t(kYawWindow);
   nav::NavInput in;
   in.position = p;

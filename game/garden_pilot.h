@@ -20,9 +20,9 @@
 //   before the path's first stair cell, or the waypoint where the straight that crosses the stairs begins), and the
 //   stairs leg that follows runs along the staircase's axis to 0.3 m past its last stair cell. Go turns into Stop
 //   again at the leg's end, when the bearing to the leg's end has turned by more than kReturnHeading from the
-//   leg's heading at its start with more than kReturnDistance to go (the walk drifted sideways), when the path changed (a replan), or when a movable body (a ball) is
-//   right ahead; not on a staircase, which is walked to its end.
-//   Run (key 1) while the navigation's skill choice says run and the leg has kRunMinLeg left; walk (0) again with
+//   leg's heading at its start with more than kReturnDistance to go (the walk drifted sideways), when the path changed
+//   (a replan), or when a movable body (a ball) is right ahead; not on a staircase, which is walked to its end. Run
+//   (key 1) while the navigation's skill choice says run and the leg has kRunMinLeg left; walk (0) again with
 //   kRunLeaveLeg left.
 #pragma once
 
@@ -83,9 +83,9 @@ struct GardenKeyParams {
   /// the run at all: off in the garden, where the run's hand-over back to the walk (key 0, then W let go) fell in
   /// 2 of 2 runs that used it (seeds 1 and 2, 1 s after the switch); the unit tests check the scheme with it on
   bool useRun = false;
-  double runMinLeg = 6.0;         ///< run only with this much leg left [m] ...
-  double runLeaveLeg = 3.5;       ///< ... and walk again with this much left
-  double runFromSpeed = 0.9;      ///< ... and from a walk at least this fast [m/s]
+  double runMinLeg = 6.0;     ///< run only with this much leg left [m] ...
+  double runLeaveLeg = 3.5;   ///< ... and walk again with this much left
+  double runFromSpeed = 0.9;  ///< ... and from a walk at least this fast [m/s]
 };
 
 /// The yaw error [rad] at which a turn key held at yaw rate `wz` should be let go to stop on the heading.
@@ -115,8 +115,8 @@ class GardenKeys {
   SkillKeys keys_;
   GardenKeyParams p_;
   Mode mode_ = Mode::Stop;
-  std::string held_;      // movement keys held (W S A D)
-  char skill_ = 0;        // the skill key pressed last
+  std::string held_;        // movement keys held (W S A D)
+  char skill_ = 0;          // the skill key pressed last
   int64_t restSince_ = -1;  // the tick the robot was first seen at rest in this Stop / between turn pulses
   int tries_ = 0;
   bool goStairs_ = false;  // the Go under way is a stairs leg
@@ -125,12 +125,12 @@ class GardenKeys {
 
 /// What the pilot did in one tick, for telemetry.
 struct GardenTick {
-  int target = -1;             ///< index of the current target (-1: none)
-  double targetDistance = 0;   ///< straight-line distance to it [m]
-  double targetAngle = 0;      ///< its bearing off the heading [rad]
-  double obstacleFactor = 1;   ///< the navigation's obstacle factor
+  int target = -1;              ///< index of the current target (-1: none)
+  double targetDistance = 0;    ///< straight-line distance to it [m]
+  double targetAngle = 0;       ///< its bearing off the heading [rad]
+  double obstacleFactor = 1;    ///< the navigation's obstacle factor
   double navVr = 0, navWr = 0;  ///< the navigation's own command (its interlock), for comparison
-  std::string events;          ///< "reached", "stuck", "replanned", "target", "noPath", joined by '+'
+  std::string events;           ///< "reached", "stuck", "replanned", "target", "noPath", joined by '+'
   GardenKeys::Mode mode = GardenKeys::Mode::Stop;
 };
 

@@ -78,8 +78,8 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
       const robot::Sensors& sensed = session.sensors();
       const Eigen::Vector2d feet = 0.5 * (sensed.footPosition[0] + sensed.footPosition[1]).head<2>();
       const double left = (com.head<2>() - feet).dot(Eigen::Vector2d(-std::sin(sensed.yaw), std::cos(sensed.yaw)));
-      result.comLog.push_back({double(done) * engine::kTickSeconds, com.x(), com.z(), vx, session.activeSkillName(), com.y(),
-                                sensed.yaw, left});
+      result.comLog.push_back({double(done) * engine::kTickSeconds, com.x(), com.z(), vx, session.activeSkillName(),
+                               com.y(), sensed.yaw, left});
     }
 
     if (options.hashEvery > 0 && done % options.hashEvery == 0) {
@@ -123,7 +123,8 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
   // switch continuity: the forward speed of the centre of mass, smoothed over 0.1 s (10 ticks)
   const int64_t n = int64_t(comX.size());
   std::vector<double> speed(size_t(n), 0.0);
-  for (int64_t i = 10; i < n; ++i) speed[size_t(i)] = (comX[size_t(i)] - comX[size_t(i - 10)]) / (10 * engine::kTickSeconds);
+  for (int64_t i = 10; i < n; ++i)
+    speed[size_t(i)] = (comX[size_t(i)] - comX[size_t(i - 10)]) / (10 * engine::kTickSeconds);
   auto mean = [&](int64_t a, int64_t b) {
     a = std::clamp<int64_t>(a, 0, n), b = std::clamp<int64_t>(b, 0, n);
     double s = 0;
@@ -141,8 +142,10 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     if (sw[k].respawn) continue;
     int64_t first = t - 50, last = t + 300;
     for (int64_t r : respawns) {
-      if (r < t) first = std::max(first, r + 11);
-      else last = std::min(last, r);
+      if (r < t)
+        first = std::max(first, r + 11);
+      else
+        last = std::min(last, r);
     }
     SwitchReport rep;
     rep.event = sw[k];
@@ -150,7 +153,8 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     rep.speedBefore = mean(first, t);
     rep.speedAfter = mean(std::min(t + 200, next - 100), std::min(t + 300, next));
     for (int64_t i = std::max<int64_t>(first, 11); i < std::min(last, n); ++i)
-      rep.peakAcceleration = std::max(rep.peakAcceleration, std::abs(speed[size_t(i)] - speed[size_t(i - 1)]) / engine::kTickSeconds);
+      rep.peakAcceleration =
+          std::max(rep.peakAcceleration, std::abs(speed[size_t(i)] - speed[size_t(i - 1)]) / engine::kTickSeconds);
     result.switchReports.push_back(rep);
   }
   result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -137,7 +137,6 @@ void Session::inputSystem(const std::vector<engine::KeyEvent>& events) {
   if (input_.state().skillRequest >= 0) telemetry_.skillsRequested.insert(input_.state().skillRequest);
 }
 
-
 // the skill runtime: the request routed along the tree (robot::route), the keys' command shaped for the active skill
 // (robot::shapeCommand), the control step (robot::controlStep); without a skill the standing controller holds the pose
 void Session::controlSystem() {
@@ -162,8 +161,8 @@ void Session::controlSystem() {
     robot::ballIntoCommand(sensors_, physics_.ballState(course_->firstBall()).position, &command);
   }
   robot::PdCommand pd;
-  robot::controlStep(model_, model_, &runtime_, sensors_, physics_, command, robot::waitsForStill(runtime_, request.wanted),
-                     &pd);
+  robot::controlStep(model_, model_, &runtime_, sensors_, physics_, command,
+                     robot::waitsForStill(runtime_, request.wanted), &pd);
   robot_->setCommand(pd);
 }
 
@@ -197,15 +196,16 @@ void Session::rulesSystem() {
   const bool ground = active && robot::isGroundSkill(active->def);
   // an upright skill stuck leaning or slumped (against a wall, on a knee: it cannot switch, kSwitchMaxTilt) for
   // kStuckTicks counts as down too (levels/mario's autopilot once leaned on the wall in the one-leg stand for 215 s)
-  const bool slumped = active && !ground && (sensors_.tilt > robot::kSwitchMaxTilt || sensors_.basePosition.z() < kStuckPelvisHeight);
+  const bool slumped =
+      active && !ground && (sensors_.tilt > robot::kSwitchMaxTilt || sensors_.basePosition.z() < kStuckPelvisHeight);
   stuckTicks_ = slumped ? stuckTicks_ + 1 : 0;
   robot::updateDrift(sensors_, &runtime_.drift);
   const robot::Skill* way = ground && skills_ && !active->def.up.empty() ? skills_->byName(active->def.up) : nullptr;
   const bool risingTooLong = way && !robot::isGroundSkill(way->def) && tick_ - runtime_.activeSince >= kStandUpTicks &&
                              sensors_.basePosition.z() < kStuckPelvisHeight;
-  const bool down = ground ? robot::hasFallen(active->def.termination, sensors_) || risingTooLong
-                           : sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt ||
-                                 stuckTicks_ >= kStuckTicks;
+  const bool down =
+      ground ? robot::hasFallen(active->def.termination, sensors_) || risingTooLong
+             : sensors_.basePosition.z() < kFallPelvisHeight || sensors_.tilt > kFallTilt || stuckTicks_ >= kStuckTicks;
   if (down && !down_) {
     ++telemetry_.falls;
     ++telemetry_.fallsBySkill[active ? active->def.name : std::string()];
@@ -267,9 +267,12 @@ std::string Session::hudLine() const {
   if (course_) {  // the game's figures on a second line (on one, a 640 px frame cut them off)
     char game[160];
     const double ghost = course_->ghostDistance();
-    std::snprintf(game, sizeof game, "\nscore %d  coins %d  ghost %s%s", course_->score(), course_->coins() + course_->gifts(),
+    std::snprintf(game, sizeof game, "\nscore %d  coins %d  ghost %s%s", course_->score(),
+                  course_->coins() + course_->gifts(),
                   ghost < 0 ? "-" : (std::to_string(ghost).substr(0, 4) + " m").c_str(),
-                  course_->outcome() == Outcome::Won ? "  WON" : course_->outcome() == Outcome::Lost ? "  LOST" : "");
+                  course_->outcome() == Outcome::Won    ? "  WON"
+                  : course_->outcome() == Outcome::Lost ? "  LOST"
+                                                        : "");
     hud += game;
   }
   return hud;

@@ -31,8 +31,8 @@ constexpr double kFallPelvisHeight = 0.45;
 /// ... or the pelvis is tilted more than this from upright [rad] (about 46 degrees).
 constexpr double kFallTilt = 0.8;
 
-/// ... or it has been stuck this many ticks in an upright skill tilted more than robot::kSwitchMaxTilt or with the pelvis
-/// below kStuckPelvisHeight [m] (no switch can take it out of there).
+/// ... or it has been stuck this many ticks in an upright skill tilted more than robot::kSwitchMaxTilt or with the
+/// pelvis below kStuckPelvisHeight [m] (no switch can take it out of there).
 constexpr int kStuckTicks = 300;
 /// A stand-up (a ground skill whose way up is an upright skill) with the pelvis still below kStuckPelvisHeight this
 /// long after it took over counts as down: it slumped back and holds its last pose, and no key can take a lying
@@ -41,7 +41,7 @@ constexpr int kStandUpTicks = 1000;
 constexpr double kStuckPelvisHeight = 0.5;
 
 struct SessionOptions {
-  uint64_t seed = 1;                ///< drives every random choice (today: the initial joint jitter)
+  uint64_t seed = 1;                        ///< drives every random choice (today: the initial joint jitter)
   const robot::SkillSet* skills = nullptr;  ///< learned skills (keys 0-9); without them the standing controller runs
 };
 
@@ -61,10 +61,10 @@ struct Telemetry {
   double minPelvisHeight = 1e9, maxPelvisHeight = 0;
   double sumPelvisHeight = 0;
   double maxTilt = 0;
-  double distance = 0;  ///< horizontal path length of the pelvis [m]
-  int falls = 0;        ///< times the robot went down (a game level may put it back up)
+  double distance = 0;                      ///< horizontal path length of the pelvis [m]
+  int falls = 0;                            ///< times the robot went down (a game level may put it back up)
   std::map<std::string, int> fallsBySkill;  ///< the same, by the skill in control when it went down ("" = none)
-  std::vector<int64_t> respawns;  ///< ticks the robot was put back at a checkpoint (a teleport)
+  std::vector<int64_t> respawns;            ///< ticks the robot was put back at a checkpoint (a teleport)
   int64_t ticks = 0;
   std::set<int> skillsRequested;
   std::set<std::string> skillsUsed;
@@ -141,7 +141,7 @@ class Session {
   int64_t tick_ = 0;
   bool fallen_ = false, down_ = false;
   int64_t fallTick_ = -1;
-  int stuckTicks_ = 0;     // ticks slumped in an upright skill (kStuckTicks)
+  int stuckTicks_ = 0;  // ticks slumped in an upright skill (kStuckTicks)
 };
 
 }  // namespace game

@@ -25,7 +25,6 @@ std::vector<char> movementKeys(const robot::CommandDef& c) {
   return keys;
 }
 
-
 // The moments of a trial's key taps. A skill entered lying down (the stand-up: its parent is a ground skill) is
 // reached as in play: its parent's key at 0 and its own once the parent has lain down. A ground skill is left once
 // it lies (3-5 s: prone lies face down from ~2.2 s); an upright one at a random gait phase 2-4 s in.
@@ -52,7 +51,7 @@ TrialPlan planTrial(const robot::SkillSet& skills, const robot::Skill& from, std
 }  // namespace
 
 SwitchTrial runSwitchTrial(const levels::Level& level, const robot::RobotModel& model, const robot::SkillSet& skills,
-               const robot::Skill& from, const robot::Skill& to, uint64_t seed) {
+                           const robot::Skill& from, const robot::Skill& to, uint64_t seed) {
   std::mt19937_64 rng(seed);
   const std::vector<char> keysA = movementKeys(from.def.commands), keysB = movementKeys(to.def.commands);
   const char keyA = keysA[size_t(unit(rng) * double(keysA.size()))];
@@ -115,7 +114,7 @@ SwitchTrial runSwitchTrial(const levels::Level& level, const robot::RobotModel& 
 }
 
 std::vector<std::pair<const robot::Skill*, const robot::Skill*>> switchPairs(const robot::SkillSet& skills,
-                                                                              std::vector<std::string>* untried) {
+                                                                             std::vector<std::string>* untried) {
   std::vector<std::pair<const robot::Skill*, const robot::Skill*>> pairs;
   auto add = [&](const robot::Skill* a, const robot::Skill* b) {
     if (a && b && std::find(pairs.begin(), pairs.end(), std::make_pair(a, b)) == pairs.end()) pairs.push_back({a, b});
@@ -131,7 +130,8 @@ std::vector<std::pair<const robot::Skill*, const robot::Skill*>> switchPairs(con
         untried->push_back(child.def.name + " -> " + up->def.name + ": not a direct switch (lying down, it stands up " +
                            (child.def.up.empty() ? "through a stand-up skill, which the tree does not have yet)"
                                                  : "through " + child.def.up + ", which has no model yet)"));
-      else add(&child, up);
+      else
+        add(&child, up);
     }
   return pairs;
 }
@@ -150,19 +150,23 @@ SwitchMatrix runSwitchMatrix(const levels::Level& level, const robot::RobotModel
   if (pairs.empty())
     throw engine::Error("eval switches: no two connected skills have models yet (loaded: " +
                         std::to_string(skills.skills.size()) + "); train a branch first");
-  auto selected = [&](const auto& pr) { return o.only.empty() || pr.first->def.name == o.only || pr.second->def.name == o.only; };
+  auto selected = [&](const auto& pr) {
+    return o.only.empty() || pr.first->def.name == o.only || pr.second->def.name == o.only;
+  };
   if (!o.only.empty()) {
     if (!skills.byName(o.only))
       throw engine::Error("eval switches --only " + o.only + ": no such skill with a model (see `treelearn tree`)");
     if (std::count_if(pairs.begin(), pairs.end(), selected) == 0)
-      throw engine::Error("eval switches --only " + o.only + ": the skill has no allowed switch with a model at the other end");
+      throw engine::Error("eval switches --only " + o.only +
+                          ": the skill has no allowed switch with a model at the other end");
   }
   engine::WorkerPool pool(o.threads);
   for (size_t p = 0; p < pairs.size(); ++p) {
     if (!selected(pairs[p])) continue;  // each kept pair's trials keep their seeds (p counts every pair)
     SwitchRow row{pairs[p].first, pairs[p].second, std::vector<SwitchTrial>(size_t(o.trials))};
     pool.parallelFor(o.trials, [&](int i) {
-      row.trials[size_t(i)] = runSwitchTrial(level, model, skills, *row.from, *row.to, o.seed * 1000003 + p * 1009 + uint64_t(i));
+      row.trials[size_t(i)] =
+          runSwitchTrial(level, model, skills, *row.from, *row.to, o.seed * 1000003 + p * 1009 + uint64_t(i));
     });
     m.rows.push_back(std::move(row));
   }

@@ -15,7 +15,7 @@ namespace game {
 /// One trial of a switch.
 struct SwitchTrial {
   bool switched = false, upright = false;
-  double accelAround = 0, accelBefore = 0;   ///< peak |d v_CoM / dt| [m/s^2] around the switch / 1 s earlier
+  double accelAround = 0, accelBefore = 0;    ///< peak |d v_CoM / dt| [m/s^2] around the switch / 1 s earlier
   double targetAround = 0, targetBefore = 0;  ///< peak per-tick joint-target change [rad]
   double latencyTicks = -1;                   ///< key tick -> tick the new skill first acts
   char keyBefore = 0, keyAfter = 0;           ///< the movement keys held before and after the switch (0: none)
@@ -24,9 +24,10 @@ struct SwitchTrial {
   double fallHeight = 0, fallPitchDeg = 0, fallLeanDeg = 0;
 };
 
-constexpr double kSwitchWindowSeconds = 0.2;   ///< the window around the switch (and the earlier reference window)
-constexpr double kSwitchAfterSeconds = 3.0;    ///< no fall for this long after the switch
-constexpr double kSwitchMaxWaitSeconds = 6.0;  ///< a switch may wait this long after its key (a stand-up: until it stands)
+constexpr double kSwitchWindowSeconds = 0.2;  ///< the window around the switch (and the earlier reference window)
+constexpr double kSwitchAfterSeconds = 3.0;   ///< no fall for this long after the switch
+constexpr double kSwitchMaxWaitSeconds =
+    6.0;  ///< a switch may wait this long after its key (a stand-up: until it stands)
 
 /// One trial of from -> to: from's key (a skill entered lying: its parent's first), a random movement key, then at a
 /// random moment to's key with another random movement key; measured until kSwitchAfterSeconds after the switch.
@@ -36,7 +37,7 @@ SwitchTrial runSwitchTrial(const levels::Level& level, const robot::RobotModel& 
 /// The switches the matrix tries: each edge down the tree (parent -> child) and each way up (child -> its parent, or
 /// -> its `up` skill), for the skills with models. `untried` gets a line for each way up it cannot try.
 std::vector<std::pair<const robot::Skill*, const robot::Skill*>> switchPairs(const robot::SkillSet& skills,
-                                                                              std::vector<std::string>* untried);
+                                                                             std::vector<std::string>* untried);
 
 struct SwitchMatrixOptions {
   int trials = 10;  ///< per ordered pair

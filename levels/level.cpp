@@ -1,11 +1,12 @@
 // level.cpp — TOML level loader (toml++), strict: unknown keys, wrong types and bad sizes are errors.
 #include "levels/level.h"
 
+#include <toml++/toml.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <set>
-#include <toml++/toml.h>
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
@@ -39,8 +40,9 @@ struct Reader {
     auto v = n->value<double>();
     if (!v || !std::isfinite(*v)) throw Error(located(file, line(*n), std::string("'") + key + "' must be a number"));
     if (*v < lo || *v > hi)
-      throw Error(located(file, line(*n), std::string("'") + key + "' = " + std::to_string(*v) + " is out of range [" +
-                                              std::to_string(lo) + ", " + std::to_string(hi) + "]"));
+      throw Error(located(file, line(*n),
+                          std::string("'") + key + "' = " + std::to_string(*v) + " is out of range [" +
+                              std::to_string(lo) + ", " + std::to_string(hi) + "]"));
     return *v;
   }
 
@@ -54,15 +56,18 @@ struct Reader {
     }
     const toml::array* a = n->as_array();
     if (!a || a->size() != N)
-      throw Error(located(file, line(*n), std::string("'") + key + "' must be an array of " + std::to_string(N) + " numbers"));
+      throw Error(
+          located(file, line(*n), std::string("'") + key + "' must be an array of " + std::to_string(N) + " numbers"));
     Eigen::Matrix<double, N, 1> out;
     for (int i = 0; i < N; ++i) {
       auto v = (*a)[static_cast<size_t>(i)].value<double>();
       if (!v || !std::isfinite(*v))
-        throw Error(located(file, line(*n), std::string("'") + key + "' must be an array of " + std::to_string(N) + " numbers"));
+        throw Error(located(file, line(*n),
+                            std::string("'") + key + "' must be an array of " + std::to_string(N) + " numbers"));
       if (*v < lo || *v > hi)
-        throw Error(located(file, line(*n), std::string("'") + key + "' has a value out of range [" + std::to_string(lo) +
-                                                ", " + std::to_string(hi) + "]"));
+        throw Error(located(file, line(*n),
+                            std::string("'") + key + "' has a value out of range [" + std::to_string(lo) + ", " +
+                                std::to_string(hi) + "]"));
       out[i] = *v;
     }
     return out;
@@ -106,8 +111,9 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
   } catch (const toml::parse_error& e) {
     throw Error(located(fileName, static_cast<int>(e.source().begin.line), std::string(e.description())));
   }
-  r.onlyKeys(root, {"name", "description", "plane", "time_limit", "ground", "spawn", "box", "stairs", "wall", "tunnel",
-                    "rules", "ghost", "coin", "question_box", "ball", "goal"},
+  r.onlyKeys(root,
+             {"name", "description", "plane", "time_limit", "ground", "spawn", "box", "stairs", "wall", "tunnel",
+              "rules", "ghost", "coin", "question_box", "ball", "goal"},
              "the level (entity types: box, stairs, wall, tunnel, ghost, coin, question_box, ball, goal; tables: "
              "ground, spawn, rules)");
 
@@ -118,9 +124,12 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
   if (level.name.empty()) throw Error(located(fileName, 1, "missing 'name = \"...\"'"));
   level.description = r.text(root, "description", "");
   const std::string plane = r.text(root, "plane", "side");
-  if (plane == "side") level.plane = Plane2d::Side;
-  else if (plane == "top") level.plane = Plane2d::Top;
-  else throw Error(located(fileName, r.line(*root.get("plane")), "'plane' must be \"side\" or \"top\""));
+  if (plane == "side")
+    level.plane = Plane2d::Side;
+  else if (plane == "top")
+    level.plane = Plane2d::Top;
+  else
+    throw Error(located(fileName, r.line(*root.get("plane")), "'plane' must be \"side\" or \"top\""));
   level.timeLimit = r.number(root, "time_limit", 0.0, false, 0.0, 86400.0);
 
   if (const toml::node* g = root.get("ground")) {
@@ -146,7 +155,9 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
     const toml::node* n = root.get(key);
     if (!n) return out;
     const toml::array* a = n->as_array();
-    if (!a) throw Error(located(fileName, r.line(*n), std::string("'") + key + "' must be written as [[" + key + "]] tables"));
+    if (!a)
+      throw Error(
+          located(fileName, r.line(*n), std::string("'") + key + "' must be written as [[" + key + "]] tables"));
     for (const toml::node& e : *a) out.push_back(&r.table(e, std::string("[[") + key + "]]"));
     return out;
   };
@@ -234,9 +245,12 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
     RulesDef& rules = level.rules;
     rules.present = true;
     const std::string falls = r.text(t, "falls", "respawn");
-    if (falls == "lose") rules.falls = FallRule::Lose;
-    else if (falls == "respawn") rules.falls = FallRule::Respawn;
-    else throw Error(located(fileName, r.line(*t.get("falls")), "'falls' must be \"lose\" or \"respawn\""));
+    if (falls == "lose")
+      rules.falls = FallRule::Lose;
+    else if (falls == "respawn")
+      rules.falls = FallRule::Respawn;
+    else
+      throw Error(located(fileName, r.line(*t.get("falls")), "'falls' must be \"lose\" or \"respawn\""));
     rules.fallPenalty = int(r.number(t, "fall_penalty", 50, false, 0, 1e6));
     rules.coinValue = int(r.number(t, "coin_value", 10, false, 0, 1e6));
     rules.giftValue = int(r.number(t, "gift_value", 50, false, 0, 1e6));
@@ -246,14 +260,17 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
       if (!a) throw Error(located(fileName, r.line(*c), "'checkpoints' must be a list of x positions"));
       for (const toml::node& x : *a) {
         auto v = x.value<double>();
-        if (!v || !std::isfinite(*v)) throw Error(located(fileName, r.line(*c), "'checkpoints' must be a list of x positions"));
+        if (!v || !std::isfinite(*v))
+          throw Error(located(fileName, r.line(*c), "'checkpoints' must be a list of x positions"));
         rules.checkpoints.push_back(*v);
       }
     }
   }
   for (const toml::table* t : arrayOfTables("ghost")) {
-    r.onlyKeys(*t, {"appear_x", "behind", "height", "radius", "speed", "acceleration", "max_speed", "catch_distance", "vanish_x"},
-               "[[ghost]]");
+    r.onlyKeys(
+        *t,
+        {"appear_x", "behind", "height", "radius", "speed", "acceleration", "max_speed", "catch_distance", "vanish_x"},
+        "[[ghost]]");
     GhostDef g;
     g.line = r.line(*t);
     g.appearX = r.number(*t, "appear_x", 0, true, -kMaxCoord, kMaxCoord);
@@ -309,13 +326,15 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
     level.goals.push_back(g);
   }
   if (level.isGame() && level.goals.empty())
-    throw Error(located(fileName, r.line(*root.get("rules")), "a level with [rules] needs a [[goal]] (nothing to win)"));
+    throw Error(
+        located(fileName, r.line(*root.get("rules")), "a level with [rules] needs a [[goal]] (nothing to win)"));
   // a map (plane = "top") without rules may have coins to collect and balls lying about; everything else of a game
   // (ghosts chasing along +X, question boxes hit from below, goals to win) belongs to the side-view games
-  const bool mapExtras = level.plane == Plane2d::Top && level.ghosts.empty() && level.questionBoxes.empty() &&
-                         level.goals.empty();
-  if (!level.isGame() && !mapExtras && (!level.ghosts.empty() || !level.coins.empty() || !level.questionBoxes.empty() ||
-                                        !level.balls.empty() || !level.goals.empty()))
+  const bool mapExtras =
+      level.plane == Plane2d::Top && level.ghosts.empty() && level.questionBoxes.empty() && level.goals.empty();
+  if (!level.isGame() && !mapExtras &&
+      (!level.ghosts.empty() || !level.coins.empty() || !level.questionBoxes.empty() || !level.balls.empty() ||
+       !level.goals.empty()))
     throw Error(located(fileName, 1,
                         "ghosts, question boxes and goals need a [rules] table (and so do coins and balls in a "
                         "plane = \"side\" level)"));
@@ -325,14 +344,16 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
     for (const BoxDef& b : level.boxes) {
       const Eigen::Vector3d gap = (c - b.centre).cwiseAbs() - half - 0.5 * b.size;
       if (gap.maxCoeff() < -1e-9)
-        throw Error(located(fileName, line, what + " overlaps " + (b.name.empty() ? "a box" : "'" + b.name + "'") +
-                                                " (defined on line " + std::to_string(b.line) + ")"));
+        throw Error(located(fileName, line,
+                            what + " overlaps " + (b.name.empty() ? "a box" : "'" + b.name + "'") +
+                                " (defined on line " + std::to_string(b.line) + ")"));
     }
   };
   for (const CoinDef& c : level.coins) inside(c.centre, Eigen::Vector3d::Constant(c.radius), c.line, "coin");
   for (const QuestionBoxDef& q : level.questionBoxes) inside(q.centre, 0.5 * q.size, q.line, "question box");
   for (const BallSpawnDef& b : level.balls)
-    inside(Eigen::Vector3d(b.position.x(), b.position.y(), b.radius), Eigen::Vector3d::Constant(b.radius), b.line, "ball");
+    inside(Eigen::Vector3d(b.position.x(), b.position.y(), b.radius), Eigen::Vector3d::Constant(b.radius), b.line,
+           "ball");
   for (const GoalDef& g : level.goals) inside(g.centre, 0.5 * g.size, g.line, "goal");
 
   // every checkpoint needs room to stand (kStandHeight, kStandHalfFootprint): the robot is put back there
@@ -344,17 +365,20 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
       auto blocked = [&](const Eigen::Vector3d& centre, const Eigen::Vector3d& halfSize, double yaw) {
         // a yawed box by its axis-aligned bounds
         const double cy = std::abs(std::cos(yaw)), sy = std::abs(std::sin(yaw));
-        const Eigen::Vector3d h(cy * halfSize.x() + sy * halfSize.y(), sy * halfSize.x() + cy * halfSize.y(), halfSize.z());
+        const Eigen::Vector3d h(cy * halfSize.x() + sy * halfSize.y(), sy * halfSize.x() + cy * halfSize.y(),
+                                halfSize.z());
         return ((c - centre).cwiseAbs() - half - h).maxCoeff() < -1e-9;
       };
       auto refuse = [&](const std::string& what, int whatLine) {
         char xs[32];
         std::snprintf(xs, sizeof xs, "%g", x);
         char room[96];
-        std::snprintf(room, sizeof room, "within %.2f m of it and lower than %.2f m", kStandHalfFootprint, kStandHeight);
-        throw Error(located(fileName, line, std::string("checkpoint at x = ") + xs + " has no room to stand: " + what +
-                                                " (defined on line " + std::to_string(whatLine) + ") is " + room +
-                                                ", where a fall puts the robot back upright on both feet"));
+        std::snprintf(room, sizeof room, "within %.2f m of it and lower than %.2f m", kStandHalfFootprint,
+                      kStandHeight);
+        throw Error(located(fileName, line,
+                            std::string("checkpoint at x = ") + xs + " has no room to stand: " + what +
+                                " (defined on line " + std::to_string(whatLine) + ") is " + room +
+                                ", where a fall puts the robot back upright on both feet"));
       };
       for (const BoxDef& b : level.boxes)
         if (blocked(b.centre, 0.5 * b.size, b.yaw)) refuse(b.name.empty() ? "a box" : "'" + b.name + "'", b.line);
@@ -390,10 +414,12 @@ std::vector<BoxDef> expandStairs(const StairsDef& d) {
     b.stairs = true;
     boxes.push_back(std::move(b));
   };
-  for (int i = 1; i <= d.steps; ++i, x += d.run) column(d.name + "_up" + std::to_string(i), x, i == d.steps ? d.top : d.run, i * d.rise);
+  for (int i = 1; i <= d.steps; ++i, x += d.run)
+    column(d.name + "_up" + std::to_string(i), x, i == d.steps ? d.top : d.run, i * d.rise);
   x += d.top - d.run;
   if (d.down)
-    for (int i = d.steps - 1; i >= 1; --i, x += d.run) column(d.name + "_down" + std::to_string(i), x, d.run, i * d.rise);
+    for (int i = d.steps - 1; i >= 1; --i, x += d.run)
+      column(d.name + "_down" + std::to_string(i), x, d.run, i * d.rise);
   return boxes;
 }
 

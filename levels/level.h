@@ -22,7 +22,7 @@ struct BoxDef {
   double friction = 1.0;
   bool seeThrough = false;  ///< a [[wall]]: collides like any box, drawn translucent
   bool stairs = false;      ///< a step of a [[stairs]] (a top-plane level's 2D layer tags it as a staircase along +X)
-  int line = 0;  ///< where it was defined
+  int line = 0;             ///< where it was defined
 };
 
 /// What happens when the robot falls in a game level.
@@ -32,24 +32,24 @@ enum class FallRule { Lose, Respawn };
 struct RulesDef {
   bool present = false;
   FallRule falls = FallRule::Respawn;
-  int fallPenalty = 50;      ///< points lost per fall (respawn at the last checkpoint passed)
+  int fallPenalty = 50;  ///< points lost per fall (respawn at the last checkpoint passed)
   int coinValue = 10;
   int giftValue = 50;
-  int winBonus = 100;        ///< plus 1 point per second left
+  int winBonus = 100;               ///< plus 1 point per second left
   std::vector<double> checkpoints;  ///< respawn x positions (the spawn is always one)
 };
 
 /// A ghost that appears behind the robot once it passes appear_x and chases it in the side plane.
 struct GhostDef {
-  double appearX = 0;       ///< the robot's x that wakes it [m]
-  double behind = 4.0;      ///< it appears this far behind the robot [m]
-  double height = 1.0;      ///< height of its centre [m]
+  double appearX = 0;   ///< the robot's x that wakes it [m]
+  double behind = 4.0;  ///< it appears this far behind the robot [m]
+  double height = 1.0;  ///< height of its centre [m]
   double radius = 0.4;
-  double speed = 0.6;       ///< initial speed [m/s] ...
+  double speed = 0.6;          ///< initial speed [m/s] ...
   double acceleration = 0.05;  ///< ... growing by this [m/s^2] ...
-  double maxSpeed = 2.5;    ///< ... up to this
+  double maxSpeed = 2.5;       ///< ... up to this
   double catchDistance = 0.3;  ///< it catches the robot when its edge is this close to the pelvis [m]
-  double vanishX = 1e9;     ///< it gives up once the robot passes this x [m]
+  double vanishX = 1e9;        ///< it gives up once the robot passes this x [m]
   int line = 0;
 };
 
@@ -64,7 +64,7 @@ struct CoinDef {
 struct QuestionBoxDef {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   Eigen::Vector3d size = Eigen::Vector3d(0.4, 0.4, 0.4);
-  bool gift = false;        ///< content: a coin (false) or a gift (true)
+  bool gift = false;  ///< content: a coin (false) or a gift (true)
   int line = 0;
 };
 
@@ -114,11 +114,11 @@ constexpr double kStandHalfFootprint = 0.3;  ///< [m] half its 0.45 m width and 
 /// A loaded level.
 struct Level {
   std::string name, description;
-  std::string path;          ///< the level file
-  std::string directory;     ///< folder holding it (key scripts live there too)
-  uint64_t hash = 0;         ///< content hash of the level file
+  std::string path;       ///< the level file
+  std::string directory;  ///< folder holding it (key scripts live there too)
+  uint64_t hash = 0;      ///< content hash of the level file
   Plane2d plane = Plane2d::Side;
-  double timeLimit = 0;      ///< [s], 0 = none
+  double timeLimit = 0;  ///< [s], 0 = none
   double groundFriction = 1.0;
   Eigen::Vector2d spawn = Eigen::Vector2d::Zero();  ///< pelvis (x, y) [m]
   double spawnYaw = 0;                              ///< [rad]

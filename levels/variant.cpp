@@ -14,7 +14,7 @@ namespace levels {
 namespace {
 
 // levels/mario's fixed geometry [m]
-constexpr double kBackWallX = -2.5;          // behind the spawn (x = 0)
+constexpr double kBackWallX = -2.5;                                       // behind the spawn (x = 0)
 constexpr double kWallY = 1.05, kWallThickness = 0.1, kWallHeight = 2.0;  // the side walls: inner faces at +-1.0
 constexpr double kInnerHalfWidth = kWallY - 0.5 * kWallThickness;
 constexpr double kWallsBefore = 0.5, kWallsPast = 1.9;  // the side walls reach this far past the back and end walls
@@ -25,12 +25,12 @@ constexpr double kStairsStart = 17.0, kLanding = 1.0, kCourseWidth = 2.0;
 constexpr double kGhostVanishBeforeStairs = 1.0;  // the ghost gives up at the stairs
 constexpr double kCheckpointPastStairs = 0.4;     // kStandHalfFootprint and 0.1 m
 constexpr double kTunnelPastStairs = 2.4;
-constexpr double kTunnelCoinHeight = 0.3;         // under the lowest roof (0.55 m) with its 0.15 m radius
+constexpr double kTunnelCoinHeight = 0.3;  // under the lowest roof (0.55 m) with its 0.15 m radius
 constexpr double kCheckpointPastTunnel = 1.5;
 constexpr double kCheckpointPastBoxes = 1.5;
 constexpr double kBallPastBoxes = 3.5;
 constexpr double kGoalPastBall = 4.5;
-constexpr double kEndWallPastGoal = 0.6;          // behind the goal, as a net
+constexpr double kEndWallPastGoal = 0.6;  // behind the goal, as a net
 
 // a double in [0, 1) from the generator's top 53 bits: the same on every platform
 double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
@@ -64,7 +64,8 @@ MarioVariant drawMarioVariant(uint64_t seed, int questionBoxes) {
   const double room = std::max(0.0, R::kBoxesTo - R::kBoxesFrom - std::max(0, k - 1) * R::kBoxGap);
   for (int i = 0; i < k; ++i) v.boxesPastTunnel.push_back(draw(rng, 0.0, room));
   std::sort(v.boxesPastTunnel.begin(), v.boxesPastTunnel.end());
-  for (int i = 0; i < k; ++i) v.boxesPastTunnel[size_t(i)] = mm(v.boxesPastTunnel[size_t(i)] + R::kBoxesFrom + i * R::kBoxGap);
+  for (int i = 0; i < k; ++i)
+    v.boxesPastTunnel[size_t(i)] = mm(v.boxesPastTunnel[size_t(i)] + R::kBoxesFrom + i * R::kBoxGap);
   const int side = std::min(2, int(unit(rng) * 3));
   v.ballSide = side == 0 ? BallSide::Left : side == 1 ? BallSide::Middle : BallSide::Right;
   v.ballFromWall = draw(rng, R::kBallFromWallMin, R::kBallFromWallMax);
@@ -75,8 +76,9 @@ MarioVariant drawMarioVariant(uint64_t seed, int questionBoxes) {
 std::string marioVariantToml(const Level& base, const MarioVariant& v) {
   if (!base.isGame() || base.ghosts.size() != 1 || base.balls.size() != 1 || base.goals.size() != 1 ||
       base.questionBoxes.empty())
-    throw engine::Error(base.path + ": a variant needs a Mario-style course: a game level with one ghost, one ball, "
-                                    "one goal and at least one question box (levels/mario)");
+    throw engine::Error(base.path +
+                        ": a variant needs a Mario-style course: a game level with one ghost, one ball, "
+                        "one goal and at least one question box (levels/mario)");
   using R = VariantRanges;
   const int fit = 1 + int((R::kBoxesTo - R::kBoxesFrom) / R::kBoxGap);
   if (int(base.questionBoxes.size()) > fit)
@@ -221,7 +223,9 @@ std::string describeVariant(const MarioVariant& v) {
   char buf[320];
   std::string boxes;
   for (double d : v.boxesPastTunnel) boxes += (boxes.empty() ? "" : ", ") + num(d);
-  const char* side = v.ballSide == BallSide::Left ? "from the left wall" : v.ballSide == BallSide::Right ? "from the right wall" : "";
+  const char* side = v.ballSide == BallSide::Left    ? "from the left wall"
+                     : v.ballSide == BallSide::Right ? "from the right wall"
+                                                     : "";
   std::snprintf(buf, sizeof buf,
                 "%d steps %.3f m up on %.3f m treads, tunnel %.3f m long at %.3f m, question boxes %s m past it, "
                 "ball %s%s, ghost up to %.3f m/s",

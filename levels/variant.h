@@ -17,11 +17,11 @@ namespace levels {
 
 /// The ranges a variant's geometry is drawn from (uniform within each; both ends included up to the rounding).
 struct VariantRanges {
-  static constexpr int kStepsMin = 3, kStepsMax = 6;          ///< risers up (as many treads back down)
-  static constexpr double kRiseMin = 0.08, kRiseMax = 0.15;   ///< step height [m]
-  static constexpr double kTreadMin = 0.28, kTreadMax = 0.60; ///< tread depth [m] (the top landing stays 1 m)
-  static constexpr double kTunnelLengthMin = 3.0, kTunnelLengthMax = 6.0;      ///< [m]
-  static constexpr double kClearanceMin = 0.55, kClearanceMax = 0.65;          ///< the tunnel's opening [m]
+  static constexpr int kStepsMin = 3, kStepsMax = 6;           ///< risers up (as many treads back down)
+  static constexpr double kRiseMin = 0.08, kRiseMax = 0.15;    ///< step height [m]
+  static constexpr double kTreadMin = 0.28, kTreadMax = 0.60;  ///< tread depth [m] (the top landing stays 1 m)
+  static constexpr double kTunnelLengthMin = 3.0, kTunnelLengthMax = 6.0;  ///< [m]
+  static constexpr double kClearanceMin = 0.55, kClearanceMax = 0.65;      ///< the tunnel's opening [m]
   /// Question boxes: anywhere over the flat from kBoxesFrom to kBoxesTo metres past the tunnel's end (the robot is
   /// up again 1.2 m past it), at least kBoxGap apart along x (one jump each), in the base level's order.
   static constexpr double kBoxesFrom = 2.5, kBoxesTo = 7.0, kBoxGap = 1.0;
@@ -42,7 +42,7 @@ struct MarioVariant {
   double tunnelLength = 3.5, clearance = 0.6;
   std::vector<double> boxesPastTunnel;  ///< each question box's x minus the tunnel's end [m], increasing
   BallSide ballSide = BallSide::Middle;
-  double ballFromWall = 0;              ///< [m] (drawn for every seed; used unless the ball is in the middle)
+  double ballFromWall = 0;  ///< [m] (drawn for every seed; used unless the ball is in the middle)
   double ghostMaxSpeed = 2.2;
 };
 

@@ -24,9 +24,12 @@ double lowestColliderPoint(const engine::ArticulationDef& def, const std::vector
     for (const engine::ColliderDef& c : l.colliders) {
       const Eigen::Isometry3d w = poses[k] * c.pose;
       switch (c.kind) {
-        case engine::ShapeKind::Sphere: lowest = std::min(lowest, w.translation().z() - c.radius); break;
+        case engine::ShapeKind::Sphere:
+          lowest = std::min(lowest, w.translation().z() - c.radius);
+          break;
         case engine::ShapeKind::Capsule: {
-          const Eigen::Vector3d a = w * Eigen::Vector3d(0, 0, c.halfLength), b = w * Eigen::Vector3d(0, 0, -c.halfLength);
+          const Eigen::Vector3d a = w * Eigen::Vector3d(0, 0, c.halfLength),
+                                b = w * Eigen::Vector3d(0, 0, -c.halfLength);
           lowest = std::min(lowest, std::min(a.z(), b.z()) - c.radius);
           break;
         }
@@ -37,7 +40,8 @@ double lowestColliderPoint(const engine::ArticulationDef& def, const std::vector
             lowest = std::min(lowest, (w * corner).z());
           }
           break;
-        case engine::ShapeKind::Plane: break;
+        case engine::ShapeKind::Plane:
+          break;
       }
     }
   }

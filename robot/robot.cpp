@@ -63,7 +63,8 @@ Sensors Robot::sense(const engine::PhysicsWorld& world) const {
   }
   s.footForce = {world.contactNormalForce(id_, model_.leftFoot), world.contactNormalForce(id_, model_.rightFoot)};
   s.footContact = {s.footForce[0] > kFootContactThreshold, s.footForce[1] > kFootContactThreshold};
-  s.footPosition = {world.linkPose(id_, model_.leftFoot).translation(), world.linkPose(id_, model_.rightFoot).translation()};
+  s.footPosition = {world.linkPose(id_, model_.leftFoot).translation(),
+                    world.linkPose(id_, model_.rightFoot).translation()};
   s.footHeight = {s.footPosition[0].z() - kSoleDepth, s.footPosition[1].z() - kSoleDepth};
   s.centreOfMass = world.centreOfMass(id_);
   s.tilt = std::acos(std::clamp(r(2, 2), -1.0, 1.0));

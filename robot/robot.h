@@ -22,20 +22,21 @@ struct PdCommand {
 
 /// What the robot senses after a control tick. Body frame = pelvis link frame.
 struct Sensors {
-  Eigen::Vector3d basePosition = Eigen::Vector3d::Zero();             ///< pelvis origin, world [m]
-  Eigen::Quaterniond baseRotation = Eigen::Quaterniond::Identity();   ///< pelvis -> world
-  double roll = 0, pitch = 0, yaw = 0;                                ///< ZYX Euler angles of the pelvis [rad]
-  Eigen::Vector3d projectedGravity = Eigen::Vector3d(0, 0, -1);       ///< unit gravity in the body frame
-  Eigen::Vector3d linearVelocity = Eigen::Vector3d::Zero();           ///< body frame [m/s]
-  Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();          ///< body frame [rad/s]
-  JointArray q{};                                                     ///< joint positions [rad]
-  JointArray qd{};                                                    ///< joint velocities [rad/s]
-  std::array<bool, 2> footContact{};                                  ///< left, right
-  std::array<double, 2> footForce{};                                  ///< contact normal force, left, right [N]
+  Eigen::Vector3d basePosition = Eigen::Vector3d::Zero();            ///< pelvis origin, world [m]
+  Eigen::Quaterniond baseRotation = Eigen::Quaterniond::Identity();  ///< pelvis -> world
+  double roll = 0, pitch = 0, yaw = 0;                               ///< ZYX Euler angles of the pelvis [rad]
+  Eigen::Vector3d projectedGravity = Eigen::Vector3d(0, 0, -1);      ///< unit gravity in the body frame
+  Eigen::Vector3d linearVelocity = Eigen::Vector3d::Zero();          ///< body frame [m/s]
+  Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();         ///< body frame [rad/s]
+  JointArray q{};                                                    ///< joint positions [rad]
+  JointArray qd{};                                                   ///< joint velocities [rad/s]
+  std::array<bool, 2> footContact{};                                 ///< left, right
+  std::array<double, 2> footForce{};                                 ///< contact normal force, left, right [N]
   std::array<double, 2> footHeight{};  ///< sole height above z = 0, left, right [m]: foot-link origin - kSoleDepth
-  std::array<Eigen::Vector3d, 2> footPosition{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  ///< foot-link origins (ankle roll), world [m]
-  Eigen::Vector3d centreOfMass = Eigen::Vector3d::Zero();             ///< world [m]
-  double tilt = 0;                                                    ///< angle between pelvis Z and world Z [rad]
+  std::array<Eigen::Vector3d, 2> footPosition{Eigen::Vector3d::Zero(),
+                                              Eigen::Vector3d::Zero()};  ///< foot-link origins (ankle roll), world [m]
+  Eigen::Vector3d centreOfMass = Eigen::Vector3d::Zero();                ///< world [m]
+  double tilt = 0;                                                       ///< angle between pelvis Z and world Z [rad]
 };
 
 /// The midpoint between the shoulder joints in the torso link's frame (reference/g1/FACTS.md: the shoulder-pitch

@@ -4,6 +4,7 @@
 
 #include <console_bridge/console.h>
 #include <tinyxml2.h>
+#include <toml++/toml.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <Eigen/Eigenvalues>
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
-#include <toml++/toml.h>
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
@@ -22,12 +22,12 @@
 namespace robot {
 
 const std::array<const char*, kNumJoints> kJointNames = {
-    "left_hip_pitch_joint",      "left_hip_roll_joint",       "left_hip_yaw_joint",       "left_knee_joint",
-    "left_ankle_pitch_joint",    "left_ankle_roll_joint",     "right_hip_pitch_joint",    "right_hip_roll_joint",
-    "right_hip_yaw_joint",       "right_knee_joint",          "right_ankle_pitch_joint",  "right_ankle_roll_joint",
-    "waist_yaw_joint",           "left_shoulder_pitch_joint", "left_shoulder_roll_joint", "left_shoulder_yaw_joint",
-    "left_elbow_joint",          "left_wrist_roll_joint",     "right_shoulder_pitch_joint",
-    "right_shoulder_roll_joint", "right_shoulder_yaw_joint",  "right_elbow_joint",        "right_wrist_roll_joint",
+    "left_hip_pitch_joint",     "left_hip_roll_joint",       "left_hip_yaw_joint",         "left_knee_joint",
+    "left_ankle_pitch_joint",   "left_ankle_roll_joint",     "right_hip_pitch_joint",      "right_hip_roll_joint",
+    "right_hip_yaw_joint",      "right_knee_joint",          "right_ankle_pitch_joint",    "right_ankle_roll_joint",
+    "waist_yaw_joint",          "left_shoulder_pitch_joint", "left_shoulder_roll_joint",   "left_shoulder_yaw_joint",
+    "left_elbow_joint",         "left_wrist_roll_joint",     "right_shoulder_pitch_joint", "right_shoulder_roll_joint",
+    "right_shoulder_yaw_joint", "right_elbow_joint",         "right_wrist_roll_joint",
 };
 
 namespace {
@@ -47,7 +47,8 @@ class CaptureOutput : public console_bridge::OutputHandler {
 Eigen::Isometry3d toIsometry(const urdf::Pose& p) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  t.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized().toRotationMatrix();
+  t.linear() =
+      Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized().toRotationMatrix();
   return t;
 }
 
@@ -124,7 +125,8 @@ engine::LinkDef convertLink(const urdf::Link& link, const std::string& file, int
         break;
       }
       default:
-        throw Error(located(file, line, "link '" + link.name + "': only sphere, box and cylinder collisions are supported"));
+        throw Error(
+            located(file, line, "link '" + link.name + "': only sphere, box and cylinder collisions are supported"));
     }
     if (!(col.radius >= 0) || !(col.halfExtents.minCoeff() >= 0) || !(col.halfLength >= 0))
       throw Error(located(file, line, "link '" + link.name + "': negative collision size"));
@@ -133,7 +135,8 @@ engine::LinkDef convertLink(const urdf::Link& link, const std::string& file, int
   return def;
 }
 
-double tomlNumber(const toml::node_view<const toml::node>& v, const std::string& file, int line, const std::string& what) {
+double tomlNumber(const toml::node_view<const toml::node>& v, const std::string& file, int line,
+                  const std::string& what) {
   if (auto d = v.value<double>(); d && std::isfinite(*d)) return *d;
   throw Error(located(file, line, what + " must be a finite number"));
 }
@@ -147,7 +150,9 @@ void parseG1Urdf(const std::string& text, const std::string& file, RobotModel* m
   console_bridge::useOutputHandler(&capture);
   urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDF(text);
   console_bridge::restorePreviousOutputHandler();
-  if (!urdf) throw Error(located(file, 0, "invalid URDF: " + (capture.messages.empty() ? "rejected by urdfdom" : capture.messages)));
+  if (!urdf)
+    throw Error(
+        located(file, 0, "invalid URDF: " + (capture.messages.empty() ? "rejected by urdfdom" : capture.messages)));
 
   const urdf::LinkConstSharedPtr root = urdf->getRoot();
   if (!root || root->name != "pelvis") throw Error(located(file, 0, "the root link must be 'pelvis'"));
@@ -156,8 +161,8 @@ void parseG1Urdf(const std::string& text, const std::string& file, RobotModel* m
       throw Error(located(file, index.jointLine.count(name) ? index.jointLine.at(name) : 0,
                           "joint '" + name + "' is not revolute (only revolute joints are supported)"));
   if (urdf->joints_.size() != kNumJoints)
-    throw Error(located(file, 0, "expected " + std::to_string(kNumJoints) + " joints, found " +
-                                     std::to_string(urdf->joints_.size())));
+    throw Error(located(
+        file, 0, "expected " + std::to_string(kNumJoints) + " joints, found " + std::to_string(urdf->joints_.size())));
 
   model->articulation.base = convertLink(*root, file, index.linkLine.at(root->name));
   model->articulation.links.clear();
@@ -169,8 +174,9 @@ void parseG1Urdf(const std::string& text, const std::string& file, RobotModel* m
     if (!joint) throw Error(located(file, 0, "missing joint '" + name + "' (the G1 needs all 23 joints by name)"));
     const int line = index.jointLine.at(name);
     if (!linkIndex.count(joint->parent_link_name))
-      throw Error(located(file, line, "joint '" + name + "': parent link '" + joint->parent_link_name +
-                                          "' must be driven by an earlier joint in the G1 order"));
+      throw Error(located(file, line,
+                          "joint '" + name + "': parent link '" + joint->parent_link_name +
+                              "' must be driven by an earlier joint in the G1 order"));
     const urdf::LinkConstSharedPtr child = urdf->getLink(joint->child_link_name);
     engine::LinkDef def = convertLink(*child, file, index.linkLine.at(child->name));
     def.parent = linkIndex.at(joint->parent_link_name);
@@ -245,7 +251,8 @@ RobotModel loadRobotModel(const std::string& configPath) {
   }
   for (int j = 0; j < kNumJoints; ++j)
     if (!joints->contains(kJointNames[static_cast<size_t>(j)]))
-      throw Error(located(configPath, 0, std::string("[joints] is missing '") + kJointNames[static_cast<size_t>(j)] + "'"));
+      throw Error(
+          located(configPath, 0, std::string("[joints] is missing '") + kJointNames[static_cast<size_t>(j)] + "'"));
 
   std::vector<double> q(kNumJoints);
   for (int j = 0; j < kNumJoints; ++j) q[static_cast<size_t>(j)] = model.joints[static_cast<size_t>(j)].defaultPosition;

@@ -18,8 +18,10 @@ constexpr size_t kLeftShoulderPitch = 13, kRightShoulderPitch = 18;
 
 void phaseActivation(int tp, int t1, double* u1, double* u2) {
   *u1 = *u2 = 0.0;
-  if (tp > 0 && tp <= t1) *u1 = 0.5 * (1.0 - std::cos(2.0 * M_PI * tp / t1));
-  else if (tp > t1) *u2 = 0.5 * (1.0 - std::cos(2.0 * M_PI * (tp - t1) / t1));
+  if (tp > 0 && tp <= t1)
+    *u1 = 0.5 * (1.0 - std::cos(2.0 * M_PI * tp / t1));
+  else if (tp > t1)
+    *u2 = 0.5 * (1.0 - std::cos(2.0 * M_PI * (tp - t1) / t1));
 }
 
 void phaseSignal(int tp, int t1, double* s, double* c) {
@@ -47,14 +49,17 @@ bool commandIsZero(const SkillCommand& c) { return c.vx == 0.0 && c.vy == 0.0 &&
 
 void PhaseClock::advance(const PriorDef& prior, const SkillCommand& command) {
   if (prior.kind == PriorDef::Kind::Keyframes)  // one shot: holds at the last key; repeating: wraps
-    tp = prior.cycleTicks == 0       ? std::min(tp + 1, prior.halfPeriodTicks)
+    tp = prior.cycleTicks == 0        ? std::min(tp + 1, prior.halfPeriodTicks)
          : tp + 1 >= prior.cycleTicks ? prior.cycleStartTick
                                       : tp + 1;
-  else advance(prior.halfPeriodTicks);
+  else
+    advance(prior.halfPeriodTicks);
   const bool stepping = prior.kind == PriorDef::Kind::Phase && !(prior.standStill && commandIsZero(command));
   const double target = stepping ? 1.0 : 0.0;
-  if (prior.standRampTicks <= 0) gait = target;
-  else gait += std::clamp(target - gait, -1.0 / prior.standRampTicks, 1.0 / prior.standRampTicks);
+  if (prior.standRampTicks <= 0)
+    gait = target;
+  else
+    gait += std::clamp(target - gait, -1.0 / prior.standRampTicks, 1.0 / prior.standRampTicks);
 }
 
 void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::array<float, kActionSize>& action,
@@ -69,7 +74,7 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
   if (skill.prior.kind == PriorDef::Kind::Phase) {
     double u1, u2;
     phaseActivation(tp, skill.prior.halfPeriodTicks, &u1, &u2);
-    const double dh = !skill.prior.standStill           ? skill.prior.dh
+    const double dh = !skill.prior.standStill          ? skill.prior.dh
                       : skill.prior.standRampTicks > 0 ? skill.prior.dh * phase.gait
                       : commandIsZero(command)         ? 0.0
                                                        : skill.prior.dh;
@@ -99,7 +104,9 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
   }
   if (skill.prior.kind == PriorDef::Kind::Kick) {
     const double p = double(tp) / (2.0 * skill.prior.halfPeriodTicks);  // 0..1 through the kick cycle
-    const double lift = p < 0.35 ? 0.5 * (1.0 - std::cos(M_PI * p / 0.35)) : p < 0.8 ? 1.0 : 0.5 * (1.0 + std::cos(M_PI * (p - 0.8) / 0.2));
+    const double lift = p < 0.35  ? 0.5 * (1.0 - std::cos(M_PI * p / 0.35))
+                        : p < 0.8 ? 1.0
+                                  : 0.5 * (1.0 + std::cos(M_PI * (p - 0.8) / 0.2));
     const double swing = p >= 0.4 && p < 0.6 ? 0.5 * (1.0 - std::cos(2.0 * M_PI * (p - 0.4) / 0.2)) : 0.0;
     for (size_t j = 0; j < size_t(kNumJoints); ++j)
       out->target[j] += lift * skill.prior.poseOffset[j] + swing * skill.prior.swingOffset[j];
@@ -126,10 +133,13 @@ void skillPdCommand(const RobotModel& model, const SkillDef& skill, const std::a
     for (size_t j = 0; j < size_t(kNumJoints); ++j) out->target[j] += c * skill.prior.poseOffset[j];
   }
   for (size_t j = 0; j < size_t(kNumJoints); ++j)  // the turn term (zero unless the prior has one)
-    out->target[j] = std::clamp(out->target[j] + skill.prior.turn[j] * command.wz, model.joints[j].lower, model.joints[j].upper);
+    out->target[j] =
+        std::clamp(out->target[j] + skill.prior.turn[j] * command.wz, model.joints[j].lower, model.joints[j].upper);
 }
 
-bool startsFromDefaultPose(const SkillDef& skill) { return !isGroundSkill(skill) && skill.prior.kind == PriorDef::Kind::Keyframes; }
+bool startsFromDefaultPose(const SkillDef& skill) {
+  return !isGroundSkill(skill) && skill.prior.kind == PriorDef::Kind::Keyframes;
+}
 
 namespace {
 // at rest on both feet (atRestForSwitch) and neither rising nor sinking
@@ -201,7 +211,8 @@ SkillCommand switchBrakeTarget(const SkillDef& from, const SkillDef& to, const S
 
 bool readyForSwitch(const SkillDef& from, const SkillDef& to, const SkillCommand& target, const SkillCommand& brake,
                     const Sensors& sensors, double drift) {
-  if (isStillSkill(to)) return commandIsZero(brake) && atRestForSwitch(sensors) && (!to.settleFirst || drift < kSettleDrift);
+  if (isStillSkill(to))
+    return commandIsZero(brake) && atRestForSwitch(sensors) && (!to.settleFirst || drift < kSettleDrift);
   const Eigen::Vector3d v = sensors.baseRotation * sensors.linearVelocity;
   Eigen::Vector2d heading = (sensors.baseRotation * Eigen::Vector3d::UnitX()).head<2>();
   if (heading.norm() < 1e-6) return false;  // pitched straight up or down: no heading to move along
@@ -272,7 +283,8 @@ bool cycleAllowsSwitch(const SkillDef& from, const SkillDef& destination, const 
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors, int waitedTicks) {
   if (isGroundSkill(from) && isGroundSkill(to) && to.parent == from.name) return isLyingStill(sensors);
   if (startsFromDefaultPose(to) && !isStandingSettled(sensors)) return false;
-  if (startsFromDefaultPose(from) && !(waitedTicks >= kMaxSettleWaitTicks ? restingLevel(sensors) : isStandingSettled(sensors)))
+  if (startsFromDefaultPose(from) &&
+      !(waitedTicks >= kMaxSettleWaitTicks ? restingLevel(sensors) : isStandingSettled(sensors)))
     return false;
   if (!isGroundSkill(from) || isGroundSkill(to)) return true;
   return hasStoodUp(sensors) && restingLevel(sensors);
@@ -284,7 +296,8 @@ double steerTowardLine(const CommandDef& commands, double gain, const SkillComma
 }
 
 bool phaseAllowsSwitch(const SkillDef& from, const SkillDef& to, const PhaseClock& phase) {
-  if (from.prior.kind != PriorDef::Kind::Phase || (to.switchInPhase.lo <= 0.0 && to.switchInPhase.hi >= 1.0)) return true;
+  if (from.prior.kind != PriorDef::Kind::Phase || (to.switchInPhase.lo <= 0.0 && to.switchInPhase.hi >= 1.0))
+    return true;
   const double fraction = double(phase.tp) / (2.0 * from.prior.halfPeriodTicks);
   return fraction >= to.switchInPhase.lo && fraction <= to.switchInPhase.hi;
 }
@@ -300,8 +313,8 @@ void carryPhase(const PriorDef& from, const PriorDef& to, PhaseClock* phase) {
     phase->tp = 0;
     return;
   }
-  phase->tp = std::min(2 * to.halfPeriodTicks,
-                       int(std::lround(double(phase->tp) * to.halfPeriodTicks / from.halfPeriodTicks)));
+  phase->tp =
+      std::min(2 * to.halfPeriodTicks, int(std::lround(double(phase->tp) * to.halfPeriodTicks / from.halfPeriodTicks)));
 }
 
 void fadePrior(const RobotModel& model, const SkillDef& from, const PhaseClock& fromPhase, const SkillDef& to,

@@ -2,7 +2,6 @@
 #include "robot/skill_runtime.h"
 
 #include "engine/core/error.h"
-
 #include "engine/input/command.h"
 
 namespace robot {
@@ -71,8 +70,8 @@ SkillCommand commandWithin(double vx, double vy, double wz, const CommandDef& ra
   return command;
 }
 
-SwitchGate switchGate(const SkillSet& set, const SkillState& state, const Sensors& sensors, const SwitchRequest& request,
-                      int64_t tick) {
+SwitchGate switchGate(const SkillSet& set, const SkillState& state, const Sensors& sensors,
+                      const SwitchRequest& request, int64_t tick) {
   SwitchGate g;
   const Skill* active = state.active;
   const Skill* wanted = request.wanted;
@@ -275,7 +274,8 @@ void act(const RobotModel& model, SkillState* state, const float* policyOutput, 
   const SkillDef& def = state->active->def;
   for (int i = 0; i < kActionSize; ++i)
     if (!std::isfinite(policyOutput[i]))
-      throw engine::Error("non-finite action from the policy of skill '" + def.name + "' (output " + std::to_string(i) + ")");
+      throw engine::Error("non-finite action from the policy of skill '" + def.name + "' (output " + std::to_string(i) +
+                          ")");
   filterAction(def, policyOutput, &state->action);
   // a request out of jumps in a row for a still skill waits in the cycle's closing stand rather than jump again
   if (!holdsClosingStand(def, state->phase, waitsForStill)) state->phase.advance(def.prior, command);
@@ -284,7 +284,8 @@ void act(const RobotModel& model, SkillState* state, const float* policyOutput, 
     // the old prior's share fades linearly: target += w (old prior - new prior), with the policy's part unchanged
     const SkillDef& from = state->fadingFrom->def;
     state->fadePhase.advance(from.prior, command);
-    fadePrior(model, from, state->fadePhase, def, state->phase, command, double(state->fadeTicks) / kSwitchFadeTicks, out);
+    fadePrior(model, from, state->fadePhase, def, state->phase, command, double(state->fadeTicks) / kSwitchFadeTicks,
+              out);
     --state->fadeTicks;
   }
 }

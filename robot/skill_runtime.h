@@ -86,14 +86,14 @@ struct SkillSet {
 
 /// Everything of the runtime that changes while one robot runs its skills.
 struct SkillState {
-  const Skill* active = nullptr;  ///< nullptr: the standing controller holds the default pose
-  PhaseClock phase;               ///< the active skill's clock
+  const Skill* active = nullptr;            ///< nullptr: the standing controller holds the default pose
+  PhaseClock phase;                         ///< the active skill's clock
   std::array<float, kActionSize> action{};  ///< the filtered action (the observation's previous action)
-  const Skill* fadingFrom = nullptr;  ///< the skill before the latest switch, whose prior fades out ...
-  PhaseClock fadePhase;               ///< ... on its own clock ...
-  int fadeTicks = 0;                  ///< ... for this many more ticks
-  int64_t activeSince = 0;            ///< the caller's tick of the latest switch
-  int restWaitTicks = -1;    ///< ticks a switch has braked, waiting (-1: none; robot::switchWaits)
+  const Skill* fadingFrom = nullptr;        ///< the skill before the latest switch, whose prior fades out ...
+  PhaseClock fadePhase;                     ///< ... on its own clock ...
+  int fadeTicks = 0;                        ///< ... for this many more ticks
+  int64_t activeSince = 0;                  ///< the caller's tick of the latest switch
+  int restWaitTicks = -1;                   ///< ticks a switch has braked, waiting (-1: none; robot::switchWaits)
   int postureWaitTicks = 0;  ///< ticks the requested switch (or its next hop) has waited on posture or phase
   SkillCommand brake;        ///< the velocity command ramping to rest or to the next skill's band meanwhile ...
   SkillCommand brakeTarget;  ///< ... and where it ramps to (robot::switchBrakeTarget)
@@ -131,8 +131,8 @@ struct SwitchGate {
   bool lowerAmplitude = false;  ///< a squat's depth or a lift must come back to 0 first (it then waits)
   bool brakes = false;          ///< the active skill brakes first (robot::switchWaits)
 };
-SwitchGate switchGate(const SkillSet& set, const SkillState& state, const Sensors& sensors, const SwitchRequest& request,
-                      int64_t tick);
+SwitchGate switchGate(const SkillSet& set, const SkillState& state, const Sensors& sensors,
+                      const SwitchRequest& request, int64_t tick);
 
 /// What route() did this tick.
 struct RouteResult {
@@ -162,7 +162,9 @@ SkillCommand commandWithin(double vx, double vy, double wz, const CommandDef& ra
 constexpr double kHeadingGain = 2.0;
 constexpr double kHeadingMaxRate = 0.2;
 /// The heading hold's turn-rate cap for a skill: kHeadingMaxRate within its wz range (also the stairs card's steer).
-inline double headingHoldLimit(const CommandDef& range) { return std::min({kHeadingMaxRate, range.wz.hi, -range.wz.lo}); }
+inline double headingHoldLimit(const CommandDef& range) {
+  return std::min({kHeadingMaxRate, range.wz.hi, -range.wz.lo});
+}
 /// The yaw rate that squares a robot up to the world's +X (the staircase's way) with the heading hold's law:
 /// -gain x the yaw off +X (wrapped to [-pi, pi]), within headingHoldLimit(range). The stairs card's `steer` and
 /// training's `heading_steer`.

@@ -3,7 +3,6 @@
 // that need the whole tree (checkParentsAndKeys, checkAncestry) and the inheritance of controller tables. The tables
 // training owns are ai/tree/training_tree.cpp's; this loader only checks that a skill has no other tables.
 #include "robot/skill_tree.h"
-#include "robot/tree_reader.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +11,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "robot/tree_reader.h"
 
 namespace robot {
 namespace {
@@ -19,12 +19,13 @@ namespace {
 using engine::Error;
 using engine::located;
 
-const char* const kGroups[] = {"hip_pitch", "hip_roll",       "hip_yaw",        "knee",          "ankle_pitch", "ankle_roll",
-                               "waist_yaw", "shoulder_pitch", "shoulder_roll",  "shoulder_yaw",  "elbow",       "wrist_roll"};
+const char* const kGroups[] = {"hip_pitch",     "hip_roll",     "hip_yaw",   "knee",
+                               "ankle_pitch",   "ankle_roll",   "waist_yaw", "shoulder_pitch",
+                               "shoulder_roll", "shoulder_yaw", "elbow",     "wrist_roll"};
 
 // A per-joint-group table: group = value (or [kp, kd] when b is given)
-void groups(const TreeReader& r, const toml::table& t, const std::string& where, const RobotModel& model, JointArray* a, JointArray* b,
-            double lo, double hi) {
+void groups(const TreeReader& r, const toml::table& t, const std::string& where, const RobotModel& model, JointArray* a,
+            JointArray* b, double lo, double hi) {
   for (auto&& [k, v] : t) {
     const std::string group(k.str());
     bool known = false;
@@ -48,55 +49,68 @@ void groups(const TreeReader& r, const toml::table& t, const std::string& where,
   }
 }
 
-
 // [prior] type: the kind of prior
 PriorDef::Kind priorKind(const TreeReader& r, const toml::table& p, const std::string& where) {
-  const std::string type = p.get("type") && p.get("type")->value<std::string>() ? *p.get("type")->value<std::string>() : "";
+  const std::string type =
+      p.get("type") && p.get("type")->value<std::string>() ? *p.get("type")->value<std::string>() : "";
   if (type == "phase") return PriorDef::Kind::Phase;
   if (type == "pose") return PriorDef::Kind::Pose;
   if (type == "jump") return PriorDef::Kind::Jump;
   if (type == "kick") return PriorDef::Kind::Kick;
   if (type == "keyframes") return PriorDef::Kind::Keyframes;
   if (type == "none") return PriorDef::Kind::None;
-  throw Error(located(r.file, r.line(p), where + ".prior.type must be \"phase\", \"pose\", \"jump\", \"kick\", \"keyframes\" or \"none\""));
+  throw Error(
+      located(r.file, r.line(p),
+              where + ".prior.type must be \"phase\", \"pose\", \"jump\", \"kick\", \"keyframes\" or \"none\""));
 }
 
 // [prior] offset, swing, late, turn (joint-group tables) and crouch: which kinds need or allow them
-void parsePriorPoses(const TreeReader& r, const toml::table& p, const std::string& where, const RobotModel& model, PriorDef* prior) {
+void parsePriorPoses(const TreeReader& r, const toml::table& p, const std::string& where, const RobotModel& model,
+                     PriorDef* prior) {
   const toml::node* offset = p.get("offset");
-  const bool needsOffset = prior->kind == PriorDef::Kind::Pose || prior->kind == PriorDef::Kind::Jump ||
-                           prior->kind == PriorDef::Kind::Kick;
+  const bool needsOffset =
+      prior->kind == PriorDef::Kind::Pose || prior->kind == PriorDef::Kind::Jump || prior->kind == PriorDef::Kind::Kick;
   if (needsOffset != (offset != nullptr))
-    throw Error(located(r.file, r.line(p), where + ".prior: \"pose\", \"jump\" and \"kick\" priors need offset = { group = rad, ... }, and only they"));
+    throw Error(located(
+        r.file, r.line(p),
+        where + ".prior: \"pose\", \"jump\" and \"kick\" priors need offset = { group = rad, ... }, and only they"));
   const toml::node* swing = p.get("swing");
   if ((prior->kind == PriorDef::Kind::Kick) != (swing != nullptr))
-    throw Error(located(r.file, r.line(p), where + ".prior: a \"kick\" prior needs swing = { group = rad, ... }, and only it"));
+    throw Error(
+        located(r.file, r.line(p), where + ".prior: a \"kick\" prior needs swing = { group = rad, ... }, and only it"));
   if (swing) {
-    if (!swing->as_table()) throw Error(located(r.file, r.line(*swing), where + ".prior.swing must be a table of joint groups"));
+    if (!swing->as_table())
+      throw Error(located(r.file, r.line(*swing), where + ".prior.swing must be a table of joint groups"));
     groups(r, *swing->as_table(), where + ".prior.swing", model, &prior->swingOffset, nullptr, -3, 3);
   }
   if (const toml::node* late = p.get("late")) {
     if (prior->kind != PriorDef::Kind::Pose)
       throw Error(located(r.file, r.line(*late), where + ".prior.late is for \"pose\" priors only"));
-    if (!late->as_table()) throw Error(located(r.file, r.line(*late), where + ".prior.late must be a table of joint groups"));
+    if (!late->as_table())
+      throw Error(located(r.file, r.line(*late), where + ".prior.late must be a table of joint groups"));
     groups(r, *late->as_table(), where + ".prior.late", model, &prior->lateOffset, nullptr, -3, 3);
     prior->hasLate = true;
   }
   if (const toml::node* turn = p.get("turn")) {
-    if (!turn->as_table()) throw Error(located(r.file, r.line(*turn), where + ".prior.turn must be a table of joint groups (rad per rad/s of wz)"));
+    if (!turn->as_table())
+      throw Error(
+          located(r.file, r.line(*turn), where + ".prior.turn must be a table of joint groups (rad per rad/s of wz)"));
     groups(r, *turn->as_table(), where + ".prior.turn", model, &prior->turn, nullptr, -1, 1);
   }
   prior->crouch = r.number(p, "crouch", 0, 0, 1, where + ".prior");
   if (offset) {
-    if (!offset->as_table()) throw Error(located(r.file, r.line(*offset), where + ".prior.offset must be a table of joint groups"));
+    if (!offset->as_table())
+      throw Error(located(r.file, r.line(*offset), where + ".prior.offset must be a table of joint groups"));
     groups(r, *offset->as_table(), where + ".prior.offset", model, &prior->poseOffset, nullptr, -3, 3);
   }
 }
 
 // [prior] keys = [{ t, offset }, ...]: the key poses at increasing times; returns the last key's tick
-int parseKeyframes(const TreeReader& r, const toml::node& keysNode, const std::string& where, const RobotModel& model, PriorDef* prior) {
+int parseKeyframes(const TreeReader& r, const toml::node& keysNode, const std::string& where, const RobotModel& model,
+                   PriorDef* prior) {
   const toml::array* a = keysNode.as_array();
-  if (!a || a->empty()) throw Error(located(r.file, r.line(keysNode), where + ".prior.keys must be a non-empty list of { t, offset }"));
+  if (!a || a->empty())
+    throw Error(located(r.file, r.line(keysNode), where + ".prior.keys must be a non-empty list of { t, offset }"));
   int lastTick = 0;
   for (const toml::node& kn : *a) {
     const toml::table* kt = kn.as_table();
@@ -105,11 +119,13 @@ int parseKeyframes(const TreeReader& r, const toml::node& keysNode, const std::s
     r.onlyKeys(*kt, {"t", "offset"}, kw);
     const toml::node* tn = kt->get("t");
     const toml::node* on = kt->get("offset");
-    if (!tn || !on || !on->as_table()) throw Error(located(r.file, r.line(kn), kw + ": each key needs t = s and offset = { group = rad, ... }"));
+    if (!tn || !on || !on->as_table())
+      throw Error(located(r.file, r.line(kn), kw + ": each key needs t = s and offset = { group = rad, ... }"));
     PriorDef::Keyframe key;
     key.tick = int(std::lround(r.number(*tn, kw + ".t", 0.01, 60) / 0.01));
     if (key.tick <= lastTick)
-      throw Error(located(r.file, r.line(*tn), kw + ": times must increase (each key after the one before, the first after 0)"));
+      throw Error(located(r.file, r.line(*tn),
+                          kw + ": times must increase (each key after the one before, the first after 0)"));
     lastTick = key.tick;
     groups(r, *on->as_table(), kw + ".offset", model, &key.offset, nullptr, -3.2, 3.2);
     prior->keyframes.push_back(key);
@@ -123,32 +139,42 @@ void parseRepeat(const TreeReader& r, const toml::node& rp, const std::string& w
   if (!b) throw Error(located(r.file, r.line(rp), where + ".prior.repeat must be true or false"));
   if (!*b) return;
   if (lastTick < 2 || lastTick % 2 != 0)
-    throw Error(located(r.file, r.line(rp), where + ".prior.repeat: the last key's t must be an even number of "
-                                                  "hundredths of a second, at least 0.02 (the phase observation "
-                                                  "goes once round per cycle)"));
+    throw Error(located(r.file, r.line(rp),
+                        where + ".prior.repeat: the last key's t must be an even number of "
+                                "hundredths of a second, at least 0.02 (the phase observation "
+                                "goes once round per cycle)"));
   for (double x : prior->keyframes.back().offset)
     if (std::abs(x) > 0.05)
-      throw Error(located(r.file, r.line(rp), where + ".prior.repeat: the last key must be within 0.05 rad of the "
-                                                    "default pose (the cycle starts over from it)"));
+      throw Error(located(r.file, r.line(rp),
+                          where + ".prior.repeat: the last key must be within 0.05 rad of the "
+                                  "default pose (the cycle starts over from it)"));
   prior->cycleTicks = lastTick;
   prior->halfPeriodTicks = lastTick / 2;
 }
 
 // [prior] repeat_from = t: a lead-in, then a cycle from the key at t to the last
-void parseRepeatFrom(const TreeReader& r, const toml::node& rf, const std::string& where, int lastTick, PriorDef* prior) {
+void parseRepeatFrom(const TreeReader& r, const toml::node& rf, const std::string& where, int lastTick,
+                     PriorDef* prior) {
   if (prior->cycleTicks > 0)
-    throw Error(located(r.file, r.line(rf), where + ".prior: repeat = true cycles from the default pose, repeat_from from a key: give one of them"));
+    throw Error(located(
+        r.file, r.line(rf),
+        where + ".prior: repeat = true cycles from the default pose, repeat_from from a key: give one of them"));
   const int startTick = int(std::lround(r.number(rf, where + ".prior.repeat_from", 0.01, 60) / 0.01));
   const auto start = std::find_if(prior->keyframes.begin(), prior->keyframes.end(),
                                   [&](const PriorDef::Keyframe& key) { return key.tick == startTick; });
   if (start == prior->keyframes.end() || start + 1 == prior->keyframes.end())
-    throw Error(located(r.file, r.line(rf), where + ".prior.repeat_from must be the t of a key before the last (the cycle runs from it to the last key)"));
+    throw Error(located(
+        r.file, r.line(rf),
+        where + ".prior.repeat_from must be the t of a key before the last (the cycle runs from it to the last key)"));
   if ((lastTick - startTick) % 2 != 0)
-    throw Error(located(r.file, r.line(rf), where + ".prior.repeat_from: the cycle (last key's t - repeat_from) must be an even number "
-                                                  "of hundredths of a second (the phase observation goes once round per cycle)"));
+    throw Error(located(r.file, r.line(rf),
+                        where + ".prior.repeat_from: the cycle (last key's t - repeat_from) must be an even number "
+                                "of hundredths of a second (the phase observation goes once round per cycle)"));
   for (size_t j = 0; j < start->offset.size(); ++j)
     if (std::abs(start->offset[j] - prior->keyframes.back().offset[j]) > 0.05)
-      throw Error(located(r.file, r.line(rf), where + ".prior.repeat_from: the last key must be within 0.05 rad of the key at repeat_from (the cycle starts over from it)"));
+      throw Error(located(r.file, r.line(rf),
+                          where + ".prior.repeat_from: the last key must be within 0.05 rad of the key at repeat_from "
+                                  "(the cycle starts over from it)"));
   prior->cycleTicks = lastTick;
   prior->cycleStartTick = startTick;
   prior->halfPeriodTicks = (lastTick - startTick) / 2;
@@ -159,28 +185,47 @@ void checkPriorKeys(const TreeReader& r, const toml::table& p, const std::string
   std::vector<std::string> allowed = {"type", "turn"};
   auto add = [&](std::initializer_list<const char*> more) { allowed.insert(allowed.end(), more.begin(), more.end()); };
   switch (kind) {
-    case PriorDef::Kind::Phase: add({"T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing"}); break;
-    case PriorDef::Kind::Pose: add({"offset", "late"}); break;
-    case PriorDef::Kind::Jump: add({"T1", "crouch", "offset"}); break;
-    case PriorDef::Kind::Kick: add({"T1", "offset", "swing"}); break;
-    case PriorDef::Kind::Keyframes: add({"keys", "repeat", "repeat_from"}); break;
-    case PriorDef::Kind::None: break;
+    case PriorDef::Kind::Phase:
+      add({"T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing"});
+      break;
+    case PriorDef::Kind::Pose:
+      add({"offset", "late"});
+      break;
+    case PriorDef::Kind::Jump:
+      add({"T1", "crouch", "offset"});
+      break;
+    case PriorDef::Kind::Kick:
+      add({"T1", "offset", "swing"});
+      break;
+    case PriorDef::Kind::Keyframes:
+      add({"keys", "repeat", "repeat_from"});
+      break;
+    case PriorDef::Kind::None:
+      break;
   }
   for (auto&& [k, v] : p)
     if (std::find(allowed.begin(), allowed.end(), k.str()) == allowed.end())
-      throw Error(located(r.file, r.line(v), where + ".prior." + std::string(k.str()) + " is not a key of a \"" +
-                                                 std::string(p.get("type")->value<std::string>().value_or("")) + "\" prior"));
+      throw Error(located(r.file, r.line(v),
+                          where + ".prior." + std::string(k.str()) + " is not a key of a \"" +
+                              std::string(p.get("type")->value<std::string>().value_or("")) + "\" prior"));
 }
 
 // [skill.NAME.prior]
-void parsePrior(const TreeReader& r, const toml::table& p, const std::string& where, const RobotModel& model, PriorDef* prior) {
-  r.onlyKeys(p, {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch", "swing", "late", "keys", "repeat", "repeat_from", "turn"}, where + ".prior");
+void parsePrior(const TreeReader& r, const toml::table& p, const std::string& where, const RobotModel& model,
+                PriorDef* prior) {
+  r.onlyKeys(p,
+             {"type", "T1", "dh", "d0", "stand_still", "stand_ramp_s", "stride", "arm_swing", "offset", "crouch",
+              "swing", "late", "keys", "repeat", "repeat_from", "turn"},
+             where + ".prior");
   prior->kind = priorKind(r, p, where);
   parsePriorPoses(r, p, where, model, prior);
   prior->halfPeriodTicks = int(r.number(p, "T1", 40, 1, 1000, where + ".prior"));
   const toml::node* keysNode = p.get("keys");
   if ((prior->kind == PriorDef::Kind::Keyframes) != (keysNode != nullptr))
-    throw Error(located(r.file, r.line(p), where + ".prior: a \"keyframes\" prior needs keys = [{ t = s, offset = { group = rad, ... } }, ...], and only it"));
+    throw Error(located(
+        r.file, r.line(p),
+        where +
+            ".prior: a \"keyframes\" prior needs keys = [{ t = s, offset = { group = rad, ... } }, ...], and only it"));
   if (keysNode) {
     const int lastTick = parseKeyframes(r, *keysNode, where, model, prior);
     prior->halfPeriodTicks = lastTick;
@@ -200,22 +245,26 @@ void parsePrior(const TreeReader& r, const toml::table& p, const std::string& wh
 }
 
 // [skill.NAME.gains]: [kp, kd] per joint group, every joint given one
-void parseGains(const TreeReader& r, const toml::table& gt, const std::string& where, const RobotModel& model, SkillDef* s) {
+void parseGains(const TreeReader& r, const toml::table& gt, const std::string& where, const RobotModel& model,
+                SkillDef* s) {
   groups(r, gt, where + ".gains", model, &s->kp, &s->kd, 0, 5000);
   for (size_t j = 0; j < size_t(kNumJoints); ++j)
-    if (s->kp[j] <= 0) throw Error(located(r.file, s->line, where + ".gains: no gain for joint " + model.joints[j].name));
+    if (s->kp[j] <= 0)
+      throw Error(located(r.file, s->line, where + ".gains: no gain for joint " + model.joints[j].name));
 }
 
 // [skill.NAME.action_scale]: rad per policy unit per joint group
-void parseActionScale(const TreeReader& r, const toml::table& a, const std::string& where, const RobotModel& model, SkillDef* s) {
+void parseActionScale(const TreeReader& r, const toml::table& a, const std::string& where, const RobotModel& model,
+                      SkillDef* s) {
   groups(r, a, where + ".action_scale", model, &s->actionScale, nullptr, 0, 2);
 }
 
 // [skill.NAME.commands]; skillLine locates an error without a line of its own
 void parseCommands(const TreeReader& r, const toml::table& c, const std::string& where, int skillLine, CommandDef* d) {
   const std::string w = where + ".commands";
-  r.onlyKeys(c, {"vx", "vy", "wz", "amplitude", "pelvis_height", "line_hold", "line_steer", "line_command", "step_command",
-                 "step_look_back", "ball_command"},
+  r.onlyKeys(c,
+             {"vx", "vy", "wz", "amplitude", "pelvis_height", "line_hold", "line_steer", "line_command", "step_command",
+              "step_look_back", "ball_command"},
              w);
   d->vx = r.range(c, "vx", {}, -5, 5, w);
   d->vy = r.range(c, "vy", {}, -5, 5, w);
@@ -226,8 +275,9 @@ void parseCommands(const TreeReader& r, const toml::table& c, const std::string&
   d->lineHold = r.number(c, "line_hold", 0, 0, 5, w);
   d->lineSteer = r.number(c, "line_steer", 0, 0, 100, w);
   if (d->lineSteer > 0 && !turnsBothWays(*d))
-    throw Error(located(r.file, r.line(*c.get("line_steer")), w + ".line_steer steers with wz, and the skill's commands "
-                                                                  "need a wz range either side of 0 (wz = [-x, x])"));
+    throw Error(located(r.file, r.line(*c.get("line_steer")),
+                        w + ".line_steer steers with wz, and the skill's commands "
+                            "need a wz range either side of 0 (wz = [-x, x])"));
   d->lineCommand = r.flag(c, "line_command", d->lineCommand, w);
   d->stepCommand = r.flag(c, "step_command", d->stepCommand, w);
   d->stepLookBack = r.flag(c, "step_look_back", d->stepLookBack, w);
@@ -236,8 +286,9 @@ void parseCommands(const TreeReader& r, const toml::table& c, const std::string&
                         w + ": step_look_back needs step_command = true"));
   d->ballCommand = r.flag(c, "ball_command", d->ballCommand, w);
   if (int(d->lineCommand) + int(d->stepCommand) + int(d->ballCommand) > 1)
-    throw Error(located(r.file, r.line(c), w + ": line_command, step_command and ball_command all use the aux command "
-                                               "slots; a skill can have one"));
+    throw Error(located(r.file, r.line(c),
+                        w + ": line_command, step_command and ball_command all use the aux command "
+                            "slots; a skill can have one"));
 }
 
 // [skill.NAME.termination], read whole: the keys left out take the defaults
@@ -261,16 +312,24 @@ struct Given {
 void checkParentsAndKeys(const TreeReader& r, const SkillTree& tree) {
   int roots = 0;
   for (const SkillDef& s : tree.skills) {
-    if (s.parent.empty()) ++roots;
-    else if (!tree.find(s.parent)) throw Error(located(r.file, s.line, "skill." + s.name + ": unknown parent '" + s.parent + "'"));
+    if (s.parent.empty())
+      ++roots;
+    else if (!tree.find(s.parent))
+      throw Error(located(r.file, s.line, "skill." + s.name + ": unknown parent '" + s.parent + "'"));
     if (!s.up.empty() && (!tree.find(s.up) || s.up == s.name))
-      throw Error(located(r.file, s.line, "skill." + s.name + ": up = '" + s.up + "' is not another skill of the tree"));
-    const bool someonesWayUp = std::any_of(tree.skills.begin(), tree.skills.end(), [&](const SkillDef& o) { return o.up == s.name; });
+      throw Error(
+          located(r.file, s.line, "skill." + s.name + ": up = '" + s.up + "' is not another skill of the tree"));
+    const bool someonesWayUp =
+        std::any_of(tree.skills.begin(), tree.skills.end(), [&](const SkillDef& o) { return o.up == s.name; });
     if (s.key < 0 && !someonesWayUp)
-      throw Error(located(r.file, s.line, "skill." + s.name + ": missing key (only a skill that is another's `up`, reached "
-                                          "by routing through it, may go without one)"));
+      throw Error(located(r.file, s.line,
+                          "skill." + s.name +
+                              ": missing key (only a skill that is another's `up`, reached "
+                              "by routing through it, may go without one)"));
   }
-  if (roots != 1) throw Error(located(r.file, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
+  if (roots != 1)
+    throw Error(
+        located(r.file, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
 }
 
 // Every chain of parents reaches the root (no cycles).
@@ -291,7 +350,8 @@ void inheritControllerTables(const TreeReader& r, std::map<std::string, Given>& 
   std::set<std::string> resolved;
   for (const SkillDef& s : tree->skills)
     if (s.parent.empty()) {
-      if (!given[s.name].gains) throw Error(located(r.file, s.line, "skill." + s.name + ": the root needs a [gains] table"));
+      if (!given[s.name].gains)
+        throw Error(located(r.file, s.line, "skill." + s.name + ": the root needs a [gains] table"));
       resolved.insert(s.name);
     }
   while (resolved.size() < tree->skills.size())
@@ -307,8 +367,10 @@ void inheritControllerTables(const TreeReader& r, std::map<std::string, Given>& 
     }
 }
 
-// A skill's own keys: parent, up, key (unique in the tree: keys holds those taken), model, switch_in_phase, settle_first
-void parseSkillKeys(const TreeReader& r, const toml::table& t, const std::string& where, std::set<int>* keys, SkillDef* s) {
+// A skill's own keys: parent, up, key (unique in the tree: keys holds those taken), model, switch_in_phase,
+// settle_first
+void parseSkillKeys(const TreeReader& r, const toml::table& t, const std::string& where, std::set<int>* keys,
+                    SkillDef* s) {
   if (const toml::node* p = t.get("parent")) {
     auto v2 = p->value<std::string>();
     if (!v2) throw Error(located(r.file, r.line(*p), where + ".parent must be a skill name (\"\" for the root)"));
@@ -322,17 +384,19 @@ void parseSkillKeys(const TreeReader& r, const toml::table& t, const std::string
   // a skill without a key is reached only by routing through it (the stand-up: key 0 while lying); checkParentsAndKeys
   if (const toml::node* key = t.get("key")) {
     s->key = int(r.number(*key, where + ".key", 0, 9));
-    if (!keys->insert(s->key).second) throw Error(located(r.file, r.line(*key), where + ": key " + std::to_string(s->key) + " is taken"));
+    if (!keys->insert(s->key).second)
+      throw Error(located(r.file, r.line(*key), where + ": key " + std::to_string(s->key) + " is taken"));
   }
-  s->model = t.get("model") && t.get("model")->value<std::string>() ? *t.get("model")->value<std::string>() : s->name + ".onnx";
+  s->model = t.get("model") && t.get("model")->value<std::string>() ? *t.get("model")->value<std::string>()
+                                                                    : s->name + ".onnx";
   s->switchInPhase = r.range(t, "switch_in_phase", {0.0, 1.0}, 0.0, 1.0, where);
   s->settleFirst = r.flag(t, "settle_first", s->settleFirst, where);
 }
 
 // The controller's tables and keys (gains, action_scale, action_filter), and which of the inheritable ones the skill
 // writes itself (*g)
-void parseController(const TreeReader& r, const toml::table& t, const std::string& where, const RobotModel& model, SkillDef* s,
-                     Given* g) {
+void parseController(const TreeReader& r, const toml::table& t, const std::string& where, const RobotModel& model,
+                     SkillDef* s, Given* g) {
   if (const toml::table* gt = r.table(t, "gains", false, where)) {
     g->gains = true;
     parseGains(r, *gt, where, model, s);
@@ -347,8 +411,8 @@ void parseController(const TreeReader& r, const toml::table& t, const std::strin
 }
 
 // [skill.NAME]: its keys, then its tables in an order where each finds what it checks against already read
-SkillDef parseSkill(const TreeReader& r, const std::string& name, const toml::node& v, const RobotModel& model, std::set<int>* keys,
-                    Given* g) {
+SkillDef parseSkill(const TreeReader& r, const std::string& name, const toml::node& v, const RobotModel& model,
+                    std::set<int>* keys, Given* g) {
   SkillDef s;
   s.name = name;
   s.line = r.line(v);
@@ -356,10 +420,11 @@ SkillDef parseSkill(const TreeReader& r, const std::string& name, const toml::no
   const toml::table* t = v.as_table();
   if (!t) throw Error(located(r.file, s.line, where + " must be a table"));
   // the runtime's keys and tables, then the tables training owns (ai::loadTrainingTree reads and checks those)
-  r.onlyKeys(*t, {"parent", "up", "key", "model", "switch_in_phase", "settle_first", "action_filter", "prior", "gains",
-                  "action_scale", "commands", "termination",
-                  "draws", "rewards", "randomisation", "training", "card", "terrain", "curriculum", "ball", "ppo"},
-             where);
+  r.onlyKeys(
+      *t, {"parent",        "up",       "key",          "model",    "switch_in_phase", "settle_first", "action_filter",
+           "prior",         "gains",    "action_scale", "commands", "termination",     "draws",        "rewards",
+           "randomisation", "training", "card",         "terrain",  "curriculum",      "ball",         "ppo"},
+      where);
   parseSkillKeys(r, *t, where, keys, &s);
   if (const toml::table* p = r.table(*t, "prior", false, where)) parsePrior(r, *p, where, model, &s.prior);
   parseController(r, *t, where, model, &s, g);
@@ -367,7 +432,6 @@ SkillDef parseSkill(const TreeReader& r, const std::string& name, const toml::no
   if (const toml::table* e = r.table(*t, "termination", false, where)) parseTermination(r, *e, where, &s.termination);
   return s;
 }
-
 
 }  // namespace
 
@@ -400,7 +464,7 @@ SkillTree loadSkillTree(const std::string& path, const RobotModel& model) {
   tree.path = path;
   tree.directory = std::filesystem::path(path).parent_path().string();
   if (tree.directory.empty()) tree.directory = ".";  // a bare file name: the models sit beside it, here
-  std::map<std::string, Given> given;  // which inheritable tables each skill wrote itself
+  std::map<std::string, Given> given;                // which inheritable tables each skill wrote itself
   std::set<int> keys;
   for (auto&& [k, v] : *r.table(root, "skill", true, "tree")) {
     const std::string name(k.str());

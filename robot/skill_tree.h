@@ -17,7 +17,7 @@ namespace robot {
 /// pose scaled by the amplitude command for aperiodic ones (squat: default pose at 0, the full pose at 1), or none.
 struct PriorDef {
   enum class Kind { None, Phase, Pose, Jump, Kick, Keyframes } kind = Kind::None;
-  JointArray poseOffset{};   ///< Pose: joint offsets from the default pose at amplitude 1 [rad]; Jump: the crouch
+  JointArray poseOffset{};  ///< Pose: joint offsets from the default pose at amplitude 1 [rad]; Jump: the crouch
   /// Jump: a 2 T1-tick cycle that sinks into `crouch` x poseOffset and back over its first 60 % (cosine), then
   /// leaves the legs at the default pose for the flight and landing; the push itself is the policy's.
   double crouch = 0.0;
@@ -44,8 +44,8 @@ struct PriorDef {
     JointArray offset{};
   };
   std::vector<Keyframe> keyframes;
-  int cycleTicks = 0;  ///< repeating keyframes: the last key's tick, where the clock wraps (0: one shot)
-  int cycleStartTick = 0;  ///< repeating keyframes: the tick the clock wraps to (0, or repeat_from's key)
+  int cycleTicks = 0;        ///< repeating keyframes: the last key's tick, where the clock wraps (0: one shot)
+  int cycleStartTick = 0;    ///< repeating keyframes: the tick the clock wraps to (0, or repeat_from's key)
   int halfPeriodTicks = 40;  ///< T1: ticks per leg phase (gait period = 2 T1 ticks of 0.01 s)
   double dh = 0.0;           ///< stepping amplitude [rad]: hip -= A, knee += 2A, ankle -= A with A = dh u + d0
   double d0 = 0.0;           ///< base offset [rad] added to A
@@ -76,8 +76,8 @@ struct Range {
 /// The commands a skill takes ([skill.NAME.commands]): their ranges, which play's keys and heading hold stay within
 /// and training draws from (ai::CommandDraws says how), and what the aux command slots show.
 struct CommandDef {
-  Range vx, vy, wz;              ///< [m/s, m/s, rad/s]
-  Range amplitude;               ///< the amplitude command (0..1: R / F in play)
+  Range vx, vy, wz;                ///< [m/s, m/s, rad/s]
+  Range amplitude;                 ///< the amplitude command (0..1: R / F in play)
   Range pelvisHeight{0.78, 0.78};  ///< pelvis height the amplitude asks for at 0 (lo) and at 1 (hi) [m]
   /// In play only (robot::shapeCommand's heading hold, W / S / Q / E with no turn key): 0 keeps the heading the robot
   /// had when it started moving; > 0 also leans that heading back toward the line it started on, by
@@ -124,7 +124,7 @@ struct SkillDef {
   /// The skill a request further up the tree switches to first, when that is not the parent: prone (lying)
   /// cannot switch back to walk, so its way up is standup, and standup's way up is walk. "" = the parent.
   std::string up;
-  int key = -1;        ///< 0..9; -1: none (a skill reached only by routing through it, as another's `up`)
+  int key = -1;  ///< 0..9; -1: none (a skill reached only by routing through it, as another's `up`)
   /// A switch into this skill from one with a phase prior waits until that skill's gait phase, as a fraction of
   /// its cycle (tp / 2 T1), is within this range (at most one cycle: robot::phaseAllowsSwitch). [0, 1]: any phase.
   Range switchInPhase{0.0, 1.0};
@@ -132,11 +132,11 @@ struct SkillDef {
   /// (robot::kSettleDrift) and is at rest on both feet, up to kMaxSettleWaitTicks instead of kMaxRestWaitTicks
   /// (robot::readyForSwitch, robot::maxSwitchWaitTicks)
   bool settleFirst = false;
-  std::string model;   ///< ONNX file name inside assets/skills/
+  std::string model;  ///< ONNX file name inside assets/skills/
   PriorDef prior;
-  JointArray kp{}, kd{};           ///< PD gains per joint
-  JointArray actionScale{};        ///< rad per policy unit, per joint
-  double actionFilter = 0.0;       ///< low-pass on the policy output: u = f u + (1 - f) a (0 = none)
+  JointArray kp{}, kd{};      ///< PD gains per joint
+  JointArray actionScale{};   ///< rad per policy unit, per joint
+  double actionFilter = 0.0;  ///< low-pass on the policy output: u = f u + (1 - f) a (0 = none)
   CommandDef commands;
   TerminationDef termination;
   int line = 0;  ///< where it is defined

@@ -4,12 +4,13 @@
 // brings in toml++).
 #pragma once
 
+#include <toml++/toml.h>
+
 #include <array>
 #include <cmath>
 #include <initializer_list>
 #include <optional>
 #include <string>
-#include <toml++/toml.h>
 
 #include "engine/core/error.h"
 #include "robot/skill_tree.h"
@@ -25,7 +26,8 @@ struct TreeReader {
     for (auto&& [k, v] : t) {
       bool ok = false;
       for (const char* a : allowed) ok = ok || k == a;
-      if (!ok) throw engine::Error(engine::located(file, line(v), "unknown key '" + std::string(k.str()) + "' in " + where));
+      if (!ok)
+        throw engine::Error(engine::located(file, line(v), "unknown key '" + std::string(k.str()) + "' in " + where));
     }
   }
   const toml::table* table(const toml::table& t, const char* key, bool required, const std::string& where) const {
@@ -41,11 +43,13 @@ struct TreeReader {
     auto v = n.value<double>();
     if (!v || !std::isfinite(*v)) throw engine::Error(engine::located(file, line(n), what + " must be a number"));
     if (*v < lo || *v > hi)
-      throw engine::Error(engine::located(file, line(n), what + " = " + std::to_string(*v) + " is outside [" + std::to_string(lo) + ", " +
-                                             std::to_string(hi) + "]"));
+      throw engine::Error(engine::located(
+          file, line(n),
+          what + " = " + std::to_string(*v) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]"));
     return *v;
   }
-  double number(const toml::table& t, const char* key, double fallback, double lo, double hi, const std::string& where) const {
+  double number(const toml::table& t, const char* key, double fallback, double lo, double hi,
+                const std::string& where) const {
     const toml::node* n = t.get(key);
     return n ? number(*n, where + "." + key, lo, hi) : fallback;
   }
@@ -58,19 +62,22 @@ struct TreeReader {
     return *b;
   }
   // [a, b] with no order between them
-  std::array<double, 2> pair(const toml::table& t, const char* key, std::array<double, 2> fallback, double lo, double hi,
-                             const std::string& where) const {
+  std::array<double, 2> pair(const toml::table& t, const char* key, std::array<double, 2> fallback, double lo,
+                             double hi, const std::string& where) const {
     const toml::node* n = t.get(key);
     if (!n) return fallback;
     const toml::array* a = n->as_array();
-    if (!a || a->size() != 2) throw engine::Error(engine::located(file, line(*n), where + "." + key + " must be [x, y]"));
+    if (!a || a->size() != 2)
+      throw engine::Error(engine::located(file, line(*n), where + "." + key + " must be [x, y]"));
     return {number((*a)[0], where + "." + key, lo, hi), number((*a)[1], where + "." + key, lo, hi)};
   }
-  Range range(const toml::table& t, const char* key, Range fallback, double lo, double hi, const std::string& where) const {
+  Range range(const toml::table& t, const char* key, Range fallback, double lo, double hi,
+              const std::string& where) const {
     const toml::node* n = t.get(key);
     if (!n) return fallback;
     const toml::array* a = n->as_array();
-    if (!a || a->size() != 2) throw engine::Error(engine::located(file, line(*n), where + "." + key + " must be [low, high]"));
+    if (!a || a->size() != 2)
+      throw engine::Error(engine::located(file, line(*n), where + "." + key + " must be [low, high]"));
     Range r{number((*a)[0], where + "." + key, lo, hi), number((*a)[1], where + "." + key, lo, hi)};
     if (r.lo > r.hi) throw engine::Error(engine::located(file, line(*n), where + "." + key + ": low is above high"));
     return r;

@@ -1,11 +1,11 @@
 // fixtures.h — shared test fixtures: the shipped robot model and levels, loaded once per test binary.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "levels/level.h"
 #include "robot/robot_model.h"
@@ -21,9 +21,10 @@ inline const robot::RobotModel& robotModel() {
 }
 
 /// A gain for every joint group of a root skill named walk (a tree file needs them): 13 lines.
-inline const std::string kWalkGains = "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
-                                      "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
-                                      "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
+inline const std::string kWalkGains =
+    "[skill.walk.gains]\nhip_pitch=[1,1]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[1,1]\n"
+    "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
+    "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n";
 
 /// Writes `text` as t.toml in the temp folder `name` and returns its path (errors then read "t.toml:LINE: ...").
 inline std::string writeTree(const std::string& name, const std::string& text) {

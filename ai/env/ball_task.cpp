@@ -12,7 +12,8 @@ engine::BallId placeBall(engine::PhysicsWorld& world, const BallTaskDef& task, c
   const double c = std::cos(start.yaw), s = std::sin(start.yaw);
   const double x = task.x + jitter(), y = task.y + jitter();
   const engine::BallDef def;
-  const Eigen::Vector3d centre(start.basePosition.x() + c * x - s * y, start.basePosition.y() + s * x + c * y, def.radius);
+  const Eigen::Vector3d centre(start.basePosition.x() + c * x - s * y, start.basePosition.y() + s * x + c * y,
+                               def.radius);
   *targetDirection = Eigen::Vector2d(c, s);
   return world.addBall(def, centre);
 }

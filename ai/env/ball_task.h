@@ -4,10 +4,10 @@
 
 #include <random>
 
+#include "ai/tree/training_tree.h"
 #include "engine/physics/physics_world.h"
 #include "robot/robot.h"
 #include "robot/skill_layout.h"
-#include "ai/tree/training_tree.h"
 
 namespace ai {
 
@@ -17,7 +17,8 @@ engine::BallId placeBall(engine::PhysicsWorld& world, const BallTaskDef& task, c
                          std::mt19937_64& rng, Eigen::Vector2d* targetDirection);
 
 /// robot::ballIntoCommand for a ball state.
-inline void ballIntoCommand(const robot::Sensors& sensors, const engine::BallState& ball, robot::SkillCommand* command) {
+inline void ballIntoCommand(const robot::Sensors& sensors, const engine::BallState& ball,
+                            robot::SkillCommand* command) {
   robot::ballIntoCommand(sensors, ball.position, command);
 }
 

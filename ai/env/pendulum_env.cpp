@@ -14,7 +14,9 @@ double wrapAngle(double th) { return std::fmod(std::fmod(th + M_PI, 2.0 * M_PI) 
 }  // namespace
 
 PendulumEnv::PendulumEnv(int numEnvs)
-    : theta_(size_t(numEnvs), 0.0), thetaDot_(size_t(numEnvs), 0.0), episodeReturn_(size_t(numEnvs), 0.0),
+    : theta_(size_t(numEnvs), 0.0),
+      thetaDot_(size_t(numEnvs), 0.0),
+      episodeReturn_(size_t(numEnvs), 0.0),
       steps_(size_t(numEnvs), 0) {}
 
 void PendulumEnv::startEpisode(int n) {
@@ -56,7 +58,8 @@ void PendulumEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
     const double th = theta_[i], thDot = thetaDot_[i];
 
     // cost from the state before the step (as gym)
-    const double angleCost = wrapAngle(th) * wrapAngle(th), velocityCost = 0.1 * thDot * thDot, torqueCost = 0.001 * u * u;
+    const double angleCost = wrapAngle(th) * wrapAngle(th), velocityCost = 0.1 * thDot * thDot,
+                 torqueCost = 0.001 * u * u;
     const double reward = -(angleCost + velocityCost + torqueCost);
     result->rewards(n) = float(reward);
     result->rewardTermSums[0] -= angleCost;

@@ -11,7 +11,6 @@
 #include "ai/env/terrain.h"
 #include "engine/core/error.h"
 #include "engine/input/command.h"
-
 #include "engine/loop/clock.h"
 
 namespace ai {
@@ -30,9 +29,12 @@ void drawVelocity(std::mt19937_64& rng, const robot::CommandDef& c, const Comman
   auto used = [](const robot::Range& r) { return r.lo != 0.0 || r.hi != 0.0; };
   const double wx = used(c.vx) ? 0.5 : 0.0, wy = used(c.vy) ? 0.25 : 0.0, ww = used(c.wz) && d.turnInPlace ? 0.25 : 0.0;
   const double which = (pick - d.zeroProbability) / (1.0 - d.zeroProbability) * (wx + wy + ww);
-  if (which < wx) out->vx = uniform(rng, c.vx);
-  else if (which < wx + wy) out->vy = uniform(rng, c.vy);
-  else if (ww > 0) out->wz = uniform(rng, c.wz);
+  if (which < wx)
+    out->vx = uniform(rng, c.vx);
+  else if (which < wx + wy)
+    out->vy = uniform(rng, c.vy);
+  else if (ww > 0)
+    out->wz = uniform(rng, c.wz);
 }
 
 }  // namespace
@@ -56,27 +58,32 @@ struct SkillEnv::Env {
   uint8_t terminated = 0, truncated = 0;
   double finishedReturn = 0;  // the finished episode's return (reported as float; the curriculum's in full)
   int finishedLength = 0;
-  double amplitudeTarget = 0;  // where a ramped amplitude command is heading
-  robot::SkillCommand target;  // the latest draw, which a ramped velocity command is heading for
+  double amplitudeTarget = 0;   // where a ramped amplitude command is heading
+  robot::SkillCommand target;   // the latest draw, which a ramped velocity command is heading for
   bool headingSteered = false;  // [training] heading_steer steers this episode (heading_steer_share)
-  double steer = 0;    // [draws] steer: the draw's turn while moving, on top of the interlocked command
-  double keysWz = 0;   // the interlocked (keys') yaw rate, without the steer
-  int startStep = 0;  // rollout step the episode began at (curriculum)
-  engine::BallId ball = -1;             // the kick's ball (-1: none)
+  double steer = 0;             // [draws] steer: the draw's turn while moving, on top of the interlocked command
+  double keysWz = 0;            // the interlocked (keys') yaw rate, without the steer
+  int startStep = 0;            // rollout step the episode began at (curriculum)
+  engine::BallId ball = -1;     // the kick's ball (-1: none)
   engine::BallState ballState;
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   std::array<float, robot::kObservationSize> finalObservation{};
   Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // hold_position: where a zero command (or a push) began
-  double yawRateSmoothed = 0;  // line_turn: the world yaw rate, low-passed over kLineTurnSeconds
+  double yawRateSmoothed = 0;                        // line_turn: the world yaw rate, low-passed over kLineTurnSeconds
 };
 
 SkillEnv::SkillEnv(const robot::RobotModel& model, const SkillSpec& skill, const std::string& treePath,
                    const SkillEnvOptions& options)
-    : model_(model), skill_(skill), treeSkill_(skill), terms_(resolveRewardTerms(skill, treePath)), options_(options),
+    : model_(model),
+      skill_(skill),
+      treeSkill_(skill),
+      terms_(resolveRewardTerms(skill, treePath)),
+      options_(options),
       pool_(options.threads) {
   if (skill_.handover > 0) {
     if (!options_.parent || !options_.parentPolicy)
-      throw engine::Error("skill '" + skill_.name + "' trains handover episodes: the environment needs its parent's policy");
+      throw engine::Error("skill '" + skill_.name +
+                          "' trains handover episodes: the environment needs its parent's policy");
     parent_ = *options_.parent;
     for (const HandoverStage& v : options_.via) via_.push_back(*v.skill);
   }
@@ -224,10 +231,12 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   lineHeading = robot::groundHeading(e.sensors);
   if (skill_.lineJitterHeading > 0 || skill_.lineJitterOffset > 0) {  // (drawn only when asked for)
     lineHeading = Eigen::Rotation2Dd(skill_.lineJitterHeading * (2.0 * unit(e.rng) - 1.0)) * lineHeading;
-    lineStart += skill_.lineJitterOffset * (2.0 * unit(e.rng) - 1.0) * Eigen::Vector2d(-lineHeading.y(), lineHeading.x());
+    lineStart +=
+        skill_.lineJitterOffset * (2.0 * unit(e.rng) - 1.0) * Eigen::Vector2d(-lineHeading.y(), lineHeading.x());
   }
   // [training] heading_steer_share: steered episodes drawn only when a share below 1 asks for it (others unchanged)
-  e.headingSteered = skill_.headingSteer > 0 && (skill_.headingSteerShare >= 1.0 || unit(e.rng) < skill_.headingSteerShare);
+  e.headingSteered =
+      skill_.headingSteer > 0 && (skill_.headingSteerShare >= 1.0 || unit(e.rng) < skill_.headingSteerShare);
   // [ball] absent: some episodes without one (drawn only when asked for, so other skills' episodes are unchanged)
   const bool ball = skill_.ball.enabled && !(skill_.ball.absent > 0 && unit(e.rng) < skill_.ball.absent);
   e.ball = ball ? placeBall(*e.world, skill_.ball, e.sensors, e.rng, &e.kickDirection) : -1;
@@ -260,7 +269,7 @@ void SkillEnv::advanceCommand(Env& e) const {
     e.command.amplitude += std::clamp(e.amplitudeTarget - e.command.amplitude, -step, step);
   }
   if (skill_.draws.ramp) {
-    const engine::CommandLimits keys;  // the keyboard's rates
+    const engine::CommandLimits keys;                     // the keyboard's rates
     if (skill_.draws.steer > 0) e.command.wz = e.keysWz;  // the ramp sees the keys' command, not the steer
     engine::rampVelocityCommand(e.target.vx, e.target.vy, e.target.wz, keys.vRate, keys.wzRate, &e.command.vx,
                                 &e.command.vy, &e.command.wz);
@@ -295,8 +304,10 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
   const SkillSpec& driver = *route.driver;
   // the keys: the drive's command (W held at handover_vx, or one draw), ramping at the keyboard's rates
   robot::SkillCommand keys, target;
-  if (skill.handoverVx.lo != 0 || skill.handoverVx.hi != 0) target.vx = uniform(rng, skill.handoverVx);  // W held
-  else drawVelocity(rng, driver.commands, driver.draws, &target);
+  if (skill.handoverVx.lo != 0 || skill.handoverVx.hi != 0)
+    target.vx = uniform(rng, skill.handoverVx);  // W held
+  else
+    drawVelocity(rng, driver.commands, driver.draws, &target);
   int run = std::max(1, int(std::lround(uniform(rng, skill.handoverSeconds) / engine::kTickSeconds)));
   const engine::CommandLimits limits;
   robot::SwitchRequest request;
@@ -315,7 +326,8 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
       if (via || robot::isStillSkill(skill)) target = robot::SkillCommand{};
     }
     request.wanted = &skills[stage];
-    engine::rampVelocityCommand(target.vx, target.vy, target.wz, limits.vRate, limits.wzRate, &keys.vx, &keys.vy, &keys.wz);
+    engine::rampVelocityCommand(target.vx, target.vy, target.wz, limits.vRate, limits.wzRate, &keys.vx, &keys.vy,
+                                &keys.wz);
     request.vx = keys.vx, request.vy = keys.vy, request.wz = keys.wz;
     const robot::RouteResult routed = robot::route(route.set, state, *sensors, request, tick);
     if (state->active == &destination) {
@@ -328,7 +340,8 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
     } else {
       command = robot::shapeCommand(state, *sensors, request);
       robot::PdCommand pd;
-      robot::controlStep(nominal, actual, state, *sensors, world, command, robot::waitsForStill(*state, request.wanted), &pd);
+      robot::controlStep(nominal, actual, state, *sensors, world, command, robot::waitsForStill(*state, request.wanted),
+                         &pd);
       robot.setCommand(pd);
       if (state->active == &skills[stage]) ++driven;
     }
@@ -387,18 +400,30 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       e.command.wz = robot::steerTowardLine(skill_.commands, skill_.commands.lineSteer, line, &e.state.lineSteerError);
     }
     // [training] heading_steer: squared up to +X as the stairs card (and play's heading hold) steers
-    else if (e.headingSteered) e.command.wz = robot::squareToPlusX(e.sensors.yaw, skill_.headingSteer, skill_.commands);
+    else if (e.headingSteered)
+      e.command.wz = robot::squareToPlusX(e.sensors.yaw, skill_.headingSteer, skill_.commands);
     // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead (not a steer back
     // toward the line)
-    else if (e.command.wz != 0.0) e.state.lineAlong = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.state.lineAlong;
+    else if (e.command.wz != 0.0)
+      e.state.lineAlong = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.state.lineAlong;
 
     const double yawRate = (e.sensors.baseRotation * e.sensors.angularVelocity).z();
     e.yawRateSmoothed += (yawRate - e.yawRateSmoothed) * engine::kTickSeconds / kLineTurnSeconds;
 
     // reward
-    RewardContext ctx{&e.sensors, &e.command, &e.state.action, &e.previousAction, &skill_,
-                      e.ball >= 0 ? &e.ballState : nullptr, e.kickDirection, &e.anchor, e.state.phase.tp,
-                      &e.state.lineStart, &e.state.lineAlong, e.yawRateSmoothed, e.world.get()};
+    RewardContext ctx{&e.sensors,
+                      &e.command,
+                      &e.state.action,
+                      &e.previousAction,
+                      &skill_,
+                      e.ball >= 0 ? &e.ballState : nullptr,
+                      e.kickDirection,
+                      &e.anchor,
+                      e.state.phase.tp,
+                      &e.state.lineStart,
+                      &e.state.lineAlong,
+                      e.yawRateSmoothed,
+                      e.world.get()};
     double reward = 0;
     for (size_t k = 0; k < terms_.size(); ++k) {
       const double v = terms_[k].weight * terms_[k].term->value(ctx);
@@ -425,7 +450,8 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       if (e.ball >= 0) ballIntoCommand(e.sensors, e.ballState, &e.command);
     }
 
-    // episode end: a fall terminates (and, when the skill asks, the lifted foot touching down), the time limit truncates
+    // episode end: a fall terminates (and, when the skill asks, the lifted foot touching down), the time limit
+    // truncates
     bool fell = robot::hasFallen(skill_.termination, e.sensors);
     if (skill_.termination.liftedFootTouchSeconds > 0) {
       e.liftAskedTicks = askedFootLift(skill_, e.command.amplitude) >= 0.5 * kFootLiftHeight ? e.liftAskedTicks + 1 : 0;

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "ai/env/vec_env.h"
-#include "ai/tree/training_tree.h"
 #include "ai/rewards/reward_terms.h"
+#include "ai/tree/training_tree.h"
 #include "engine/core/worker_pool.h"
 #include "robot/skill_runtime.h"
 
@@ -28,7 +28,7 @@ struct HandoverStage {
 /// runs outside: it is being trained or measured), in one robot::SkillSet so that the tree routes between them.
 struct HandoverRoute {
   robot::SkillSet set;
-  const SkillSpec* driver = nullptr;       ///< stage 0's training tables (how its drive is drawn)
+  const SkillSpec* driver = nullptr;           ///< stage 0's training tables (how its drive is drawn)
   const SkillSpec* destinationSpec = nullptr;  ///< the destination's (its handover settings)
   const robot::Skill& destination() const { return set.skills.back(); }
 };
@@ -122,13 +122,13 @@ class SkillEnv final : public VecEnv {
   void applyLesson();  // a command curriculum's values for lesson_ into skill_
 
   robot::RobotModel model_;
-  SkillSpec skill_;      // the tree entry with the current lesson applied (see applyLesson)
-  SkillSpec treeSkill_;  // the tree entry as written
-  SkillSpec parent_;  // handover episodes only: the skill that drives first
-  std::vector<SkillSpec> via_;  // ... the skills routed through after it
-  SkillSpec backChild_;  // handover episodes from a child: the child that drives first
-  SkillSpec backSkill_;  // ... and this skill as that route switches into it (handover_back_s as its drive)
-  robot::Skill trainee_;       // skill_ as the runtime runs it (its policy runs outside, batched)
+  SkillSpec skill_;                  // the tree entry with the current lesson applied (see applyLesson)
+  SkillSpec treeSkill_;              // the tree entry as written
+  SkillSpec parent_;                 // handover episodes only: the skill that drives first
+  std::vector<SkillSpec> via_;       // ... the skills routed through after it
+  SkillSpec backChild_;              // handover episodes from a child: the child that drives first
+  SkillSpec backSkill_;              // ... and this skill as that route switches into it (handover_back_s as its drive)
+  robot::Skill trainee_;             // skill_ as the runtime runs it (its policy runs outside, batched)
   HandoverRoute route_, backRoute_;  // parent_ then via_ into skill_; backChild_ into backSkill_
   void makeRoutes();
   std::vector<WeightedTerm> terms_;
@@ -140,7 +140,7 @@ class SkillEnv final : public VecEnv {
   int lessonEpisodes_ = 0;  // episodes finished on the current lesson
   struct Finished {         // an episode of the current rollout, for the curriculum
     double episodeReturn;
-    int startStep;          // rollout step it began at
+    int startStep;  // rollout step it began at
   };
   std::vector<Finished> finished_;  // in environment order per step
   int rolloutSteps_ = 0;            // steps since the last reset()

@@ -49,9 +49,8 @@ Eigen::Vector2d stairsSpawn(const TerrainDef& t, double stepHeight, double u, do
   const levels::BoxDef& b = treads[std::clamp(int(u * n), 0, n - 1)];
   const double nearEdge = b.centre.x() - 0.5 * b.size.x();
   constexpr double kIn = 0.10, kJitter = 0.03, kBeforeFar = 0.25;
-  const double x = b.size.x() <= kIn + kBeforeFar
-                       ? nearEdge + kIn + kJitter * (2.0 * v - 1.0)
-                       : nearEdge + kIn + v * (b.size.x() - kIn - kBeforeFar);
+  const double x = b.size.x() <= kIn + kBeforeFar ? nearEdge + kIn + kJitter * (2.0 * v - 1.0)
+                                                  : nearEdge + kIn + v * (b.size.x() - kIn - kBeforeFar);
   return Eigen::Vector2d(x, stepHeight > 0 ? b.size.z() : 0.0);
 }
 

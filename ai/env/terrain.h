@@ -1,8 +1,8 @@
 // terrain.h — building a skill's training or card terrain into a Bullet world (static boxes).
 #pragma once
 
-#include "engine/physics/physics_world.h"
 #include "ai/tree/training_tree.h"
+#include "engine/physics/physics_world.h"
 
 namespace ai {
 

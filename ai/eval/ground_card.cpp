@@ -9,8 +9,8 @@
 #include <random>
 
 #include "ai/env/terrain.h"
-#include "engine/core/worker_pool.h"
 #include "engine/core/error.h"
+#include "engine/core/worker_pool.h"
 #include "engine/loop/clock.h"
 #include "robot/skill_runtime.h"
 
@@ -26,7 +26,7 @@ struct RiseCounter {
   double low = 1e9, high = -1e9;
   bool up = false;  // a rise counted, waiting for the torso to come down
   int count = 0;
-  double sum = 0;   // trough to crest of each rise that came down again [m]
+  double sum = 0;  // trough to crest of each rise that came down again [m]
   int done = 0;
   void add(double z, double rise) {
     if (!up) {
@@ -47,19 +47,20 @@ struct Episode {
   robot::Sensors sensors;
   robot::SkillState state;  // the runtime: the skill in control (the parent, the measured skill, its up skill)
   const robot::Skill* wanted = nullptr;  // the skill the card asks for (the runtime switches when its rules allow)
-  int64_t tick = 0;     // ticks since the start
+  int64_t tick = 0;                      // ticks since the start
   Stage stage = kLying;
-  int stageTick = 0;    // ticks in the current stage
-  int lieTicks = 0;     // drawn: how long the parent lies down
+  int stageTick = 0;  // ticks in the current stage
+  int lieTicks = 0;   // drawn: how long the parent lies down
   bool lyingAtSwitch = false;
-  int standTick = -1;   // ticks after the switch to the stand-up when the robot first stood (-1: never) ...
-  int handOverTick = -1;  // ... and when it had settled there and the up skill took over
-  RiseCounter torso, chest;  // push-ups: the torso link's origin, and the shoulders' midpoint (reported)
+  int standTick = -1;           // ticks after the switch to the stand-up when the robot first stood (-1: never) ...
+  int handOverTick = -1;        // ... and when it had settled there and the up skill took over
+  RiseCounter torso, chest;     // push-ups: the torso link's origin, and the shoulders' midpoint (reported)
   robot::SkillCommand command;  // the measured skill's (a crawl's forward speed); the others run at zero
   // crawls: where the tunnel starts and its direction, the progress along it and how long it went without 0.1 m more
   Eigen::Vector2d start = Eigen::Vector2d::Zero(), along = Eigen::Vector2d::UnitX();
   double best = 0, side = 0;
-  double offset = 0, headingOff = 0;  // the latest offset across the tunnel [m] and heading from its axis [rad], left > 0
+  double offset = 0,
+         headingOff = 0;  // the latest offset across the tunnel [m] and heading from its axis [rad], left > 0
   int reachTick = -1, gainTick = 0, longestStall = 0;
   bool outside = false;
   double friction = 1;
@@ -99,7 +100,9 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
     e.model = model;
     const double friction = e.friction = r.friction.lo + (r.friction.hi - r.friction.lo) * unit(e.rng);
     e.model.articulation.base.mass += r.addedMass.lo + (r.addedMass.hi - r.addedMass.lo) * unit(e.rng);
-    e.lieTicks = int(std::lround((o.lying()->lieSeconds.lo + (o.lying()->lieSeconds.hi - o.lying()->lieSeconds.lo) * unit(e.rng)) / engine::kTickSeconds));
+    e.lieTicks = int(
+        std::lround((o.lying()->lieSeconds.lo + (o.lying()->lieSeconds.hi - o.lying()->lieSeconds.lo) * unit(e.rng)) /
+                    engine::kTickSeconds));
     e.world = std::make_unique<engine::PhysicsWorld>();
     e.world->addGround(friction);
     e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, M_PI * (2 * unit(e.rng) - 1));
@@ -108,8 +111,10 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
   });
   const int riseTicks = standUp ? int(std::lround(standUpCard->riseSeconds / engine::kTickSeconds)) : 0;
   // a late stand is still timed; other skills run the card's episode_s
-  const int riseCap = standUp ? riseTicks + int(std::lround(3.0 / engine::kTickSeconds))
-                              : int(std::lround((crawl ? crawlCard->episodeSeconds : pushUpCard->episodeSeconds) / engine::kTickSeconds));
+  const int riseCap =
+      standUp
+          ? riseTicks + int(std::lround(3.0 / engine::kTickSeconds))
+          : int(std::lround((crawl ? crawlCard->episodeSeconds : pushUpCard->episodeSeconds) / engine::kTickSeconds));
   const int afterTicks = standUp ? int(std::lround(standUpCard->afterSeconds / engine::kTickSeconds)) : 0;
   const robot::SkillCommand still;  // the parent and the up skill run at a zero command
   // the runtime's skills: the parent, the measured skill, its up skill (stand-ups)
@@ -207,7 +212,8 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
       }
       if (!switched && ((e.stage == kRising && (e.stageTick >= riseCap || e.reachTick >= 0 || e.outside)) ||
                         (e.stage == kAfter && e.stageTick >= afterTicks))) {
-        if (e.stage == kRising && crawl && e.reachTick < 0) e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
+        if (e.stage == kRising && crawl && e.reachTick < 0)
+          e.longestStall = std::max(e.longestStall, e.stageTick - e.gainTick);
         e.stage = kDone;
       }
     });
@@ -241,8 +247,10 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
   CardResult res;
   const double pct = 100.0 / std::max(1, n);
   char name[192];
-  std::snprintf(name, sizeof name, "episodes standing (pelvis >= %.2f m, tilt < %.0f deg) within %.1f s, then %s %.0f s up",
-                robot::kStoodPelvisHeight, robot::kStoodTiltDegrees, standUpCard->riseSeconds, up.def->name.c_str(), standUpCard->afterSeconds);
+  std::snprintf(name, sizeof name,
+                "episodes standing (pelvis >= %.2f m, tilt < %.0f deg) within %.1f s, then %s %.0f s up",
+                robot::kStoodPelvisHeight, robot::kStoodTiltDegrees, standUpCard->riseSeconds, up.def->name.c_str(),
+                standUpCard->afterSeconds);
   char bar[48];
   std::snprintf(bar, sizeof bar, ">= %g %%", o.successPercent);
   res.figures.push_back({name, pct * success, o.successPercent < 0 ? "(reported)" : bar,
@@ -251,10 +259,12 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
   res.figures.push_back({"slowest stand [s]", stood ? slowest : 1e9, "(reported)", true});
   std::snprintf(name, sizeof name, "mean time to %s's takeover (standing and settled) [s]", up.def->name.c_str());
   res.figures.push_back({name, handedOver ? handOverSeconds / handedOver : 1e9, "(reported)", true});
-  std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(), parent.def->name.c_str());
+  std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(),
+                parent.def->name.c_str());
   res.figures.push_back({name, pct * lying, "(reported)", true});
-  std::snprintf(name, sizeof name, "  falls: lying down %d; standing up %d (side %d, back %d, over the head %d); under %s %d",
-                fellLying, fellRising, side, back, over, up.def->name.c_str(), fellAfter);
+  std::snprintf(name, sizeof name,
+                "  falls: lying down %d; standing up %d (side %d, back %d, over the head %d); under %s %d", fellLying,
+                fellRising, side, back, over, up.def->name.c_str(), fellAfter);
   res.figures.push_back({name, double(fellLying + fellRising + fellAfter), "(reported)", true});
   res.pass = true;
   for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;
@@ -284,16 +294,19 @@ CardResult pushUpResult(const SkillSpec& skill, const CardDef& o, const DrivingS
   CardResult res;
   const double pct = 100.0 / std::max(1, n);
   char name[192], bar[48];
-  std::snprintf(name, sizeof name, "episodes with >= %d push-ups (torso rising >= %.2f m) in %.0f s, no fall", k.pushUps,
-                k.rise, k.episodeSeconds);
+  std::snprintf(name, sizeof name, "episodes with >= %d push-ups (torso rising >= %.2f m) in %.0f s, no fall",
+                k.pushUps, k.rise, k.episodeSeconds);
   std::snprintf(bar, sizeof bar, ">= %g %%", o.successPercent);
   res.figures.push_back({name, pct * success, o.successPercent < 0 ? "(reported)" : bar,
                          o.successPercent < 0 || pct * success >= o.successPercent});
   res.figures.push_back({"mean push-ups per episode", double(cycles) / std::max(1, n), "(reported)", true});
   res.figures.push_back({"fewest push-ups in an episode", n ? double(fewest) : 0.0, "(reported)", true});
-  res.figures.push_back({"mean torso rise per push-up, trough to crest [m]", done ? rise / done : 0.0, "(reported)", true});
-  res.figures.push_back({"mean chest (shoulders) rise per push-up [m]", chestDone ? chestRise / chestDone : 0.0, "(reported)", true});
-  std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(), parent.def->name.c_str());
+  res.figures.push_back(
+      {"mean torso rise per push-up, trough to crest [m]", done ? rise / done : 0.0, "(reported)", true});
+  res.figures.push_back(
+      {"mean chest (shoulders) rise per push-up [m]", chestDone ? chestRise / chestDone : 0.0, "(reported)", true});
+  std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(),
+                parent.def->name.c_str());
   res.figures.push_back({name, pct * lying, "(reported)", true});
   std::snprintf(name, sizeof name, "  falls: lying down %d; during %s %d", fellLying, skill.name.c_str(), fellSkill);
   res.figures.push_back({name, double(fellLying + fellSkill), "(reported)", true});
@@ -331,8 +344,8 @@ CardResult crawlResult(const SkillSpec& skill, const CardDef& o, const DrivingSk
   CardResult res;
   const double pct = 100.0 / std::max(1, n);
   char name[192], bar[48];
-  std::snprintf(name, sizeof name, "episodes crawling %.1f m under a %.2f m ceiling at >= %.2f m/s, no fall", k.distance,
-                skill.terrain.ceilingHeight, k.speed);
+  std::snprintf(name, sizeof name, "episodes crawling %.1f m under a %.2f m ceiling at >= %.2f m/s, no fall",
+                k.distance, skill.terrain.ceilingHeight, k.speed);
   std::snprintf(bar, sizeof bar, ">= %g %%", o.successPercent);
   res.figures.push_back({name, pct * success, o.successPercent < 0 ? "(reported)" : bar,
                          o.successPercent < 0 || pct * success >= o.successPercent});
@@ -344,16 +357,21 @@ CardResult crawlResult(const SkillSpec& skill, const CardDef& o, const DrivingSk
   res.figures.push_back({"longest stall (no 0.1 m of progress) [s]", stall, "(reported)", true});
   res.figures.push_back({"largest drift across the tunnel (pelvis) [m]", side, "(reported)", true});
   const double deg = 180.0 / M_PI / std::max(1, crawled);
-  res.figures.push_back({"heading off the tunnel's axis at the end, mean (left > 0) [deg]", heading * deg, "(reported)", true});
-  res.figures.push_back({"heading off the tunnel's axis at the end, mean of |.| [deg]", headingAbs * deg, "(reported)", true});
-  std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(), parent.def->name.c_str());
+  res.figures.push_back(
+      {"heading off the tunnel's axis at the end, mean (left > 0) [deg]", heading * deg, "(reported)", true});
+  res.figures.push_back(
+      {"heading off the tunnel's axis at the end, mean of |.| [deg]", headingAbs * deg, "(reported)", true});
+  std::snprintf(name, sizeof name, "lying face down when %s began (%s's lead-in) [%%]", skill.name.c_str(),
+                parent.def->name.c_str());
   res.figures.push_back({name, pct * lying, "(reported)", true});
-  std::snprintf(name, sizeof name, "  falls: lying down %d; during %s %d; out of the tunnel's side %d (left %d, right %d)", fellLying,
+  std::snprintf(name, sizeof name,
+                "  falls: lying down %d; during %s %d; out of the tunnel's side %d (left %d, right %d)", fellLying,
                 skill.name.c_str(), fellSkill, outside, outLeft, outside - outLeft);
   res.figures.push_back({name, double(fellLying + fellSkill), "(reported)", true});
   res.pass = true;
   for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;
-  res.score = 2.0 * success / std::max(1, n) + progress / std::max(1, n) / k.distance - double(fellSkill) / std::max(1, n);
+  res.score =
+      2.0 * success / std::max(1, n) + progress / std::max(1, n) / k.distance - double(fellSkill) / std::max(1, n);
   return res;
 }
 

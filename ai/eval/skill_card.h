@@ -10,8 +10,8 @@
 #include "ai/eval/ground_card.h"
 #include "ai/eval/velocity_card.h"
 #include "ai/onnx/policy_onnx.h"
-#include "robot/robot_model.h"
 #include "ai/tree/training_tree.h"
+#include "robot/robot_model.h"
 
 namespace ai {
 

@@ -7,11 +7,11 @@
 #include <memory>
 #include <random>
 
-#include "engine/core/error.h"
-#include "engine/core/worker_pool.h"
 #include "ai/env/ball_task.h"
 #include "ai/env/terrain.h"
 #include "ai/rewards/reward_terms.h"
+#include "engine/core/error.h"
+#include "engine/core/worker_pool.h"
 #include "engine/input/command.h"
 #include "engine/loop/clock.h"
 #include "robot/skill_runtime.h"
@@ -28,21 +28,21 @@ struct Episode {
   std::mt19937_64 rng;
   robot::SkillCommand command;
   robot::SkillCommand target;  // this segment's draw; a ramped command heads for it
-  robot::SkillState state;  // the runtime: the measured skill's clock and filtered action, a lead-in's fade
+  robot::SkillState state;     // the runtime: the measured skill's clock and filtered action, a lead-in's fade
   robot::Sensors sensors;
   Eigen::Vector2d start = Eigen::Vector2d::Zero();
   bool pushes = true, fallen = false;
   int nextPush = 0, segmentStart = 0;
   double speedError = 0, yawError = 0;
   int counted = 0;
-  int alive = 0;  // ticks survived
+  int alive = 0;                       // ticks survived
   double kindError[4] = {0, 0, 0, 0};  // speed error by command kind: forward/back, sideways, turn, zero
   int kindCount[4] = {0, 0, 0, 0};
   Eigen::Vector3d velocitySum = Eigen::Vector3d::Zero();  // heading-frame vx, vy and wz after the settle time
-  double heightError = 0;  // sum of |h - h_target(amplitude)| after the settle time
-  double amplitudeTarget = 0, amplitudeRate = 0;  // the amplitude ramps as in training (the skill's rate)
+  double heightError = 0;                                 // sum of |h - h_target(amplitude)| after the settle time
+  double amplitudeTarget = 0, amplitudeRate = 0;          // the amplitude ramps as in training (the skill's rate)
   int liftRun = 0, longestLift = 0;
-  double maxX = -1e9;  // furthest pelvis x (stairs)
+  double maxX = -1e9;       // furthest pelvis x (stairs)
   double headingDown = -1;  // stairs: |heading off +X| when the pelvis first crossed the landing's far edge [rad]
   // jumps: the flight in progress, and the best run of qualifying jumps in a row
   double startHeight = 0, apex = 0;
@@ -53,9 +53,9 @@ struct Episode {
   engine::BallState ballState;
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   double bestKick = 0;
-  int leadInFalls = 0;  // a lead-in (CardDef::leadIn) drawn again after a fall
-  int fallKind = -1;         // command kind active when it fell (0 forward/backward, 1 sideways, 2 turn, 3 zero)
-  bool fellAfterPush = false;  // within 2 s of a push
+  int leadInFalls = 0;           // a lead-in (CardDef::leadIn) drawn again after a fall
+  int fallKind = -1;             // command kind active when it fell (0 forward/backward, 1 sideways, 2 turn, 3 zero)
+  bool fellAfterPush = false;    // within 2 s of a push
   bool fellAfterChange = false;  // within 2 s of a command change (not counting the first command)
   int fallTick = -1;
   int lastPush = -1000;  // ticks the right sole has been (and was at most) lifted in one go
@@ -79,9 +79,12 @@ void sampleCommand(const DrivenCard& card, Episode& e) {
   e.command = robot::SkillCommand{};
   const double kind = unit(e.rng);
   const std::array<double, 4>& m = card.mix;
-  if (kind < m[0]) e.command.vx = uniform(e.rng, card.vx);
-  else if (kind < m[0] + m[1]) e.command.vy = uniform(e.rng, card.vy);
-  else if (kind < m[0] + m[1] + m[2]) e.command.wz = uniform(e.rng, card.wz);
+  if (kind < m[0])
+    e.command.vx = uniform(e.rng, card.vx);
+  else if (kind < m[0] + m[1])
+    e.command.vy = uniform(e.rng, card.vy);
+  else if (kind < m[0] + m[1] + m[2])
+    e.command.wz = uniform(e.rng, card.wz);
   if (card.amplitude.hi > 0) {
     e.amplitudeTarget = uniform(e.rng, card.amplitude);
     e.command.amplitude = e.amplitudeRate > 0 ? now.amplitude : e.amplitudeTarget;
@@ -93,8 +96,8 @@ void sampleCommand(const DrivenCard& card, Episode& e) {
 int commandKind(const robot::SkillCommand& c) { return c.vx != 0 ? 0 : c.vy != 0 ? 1 : c.wz != 0 ? 2 : 3; }
 
 // runs a batch of episodes of `ticks` ticks; standing episodes keep a zero command and no pushes
-void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const PolicyFn& policy,
-              const CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode, engine::WorkerPool& pool,
+void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const PolicyFn& policy, const CardDef& o,
+              std::vector<Episode>& eps, int ticks, Mode mode, engine::WorkerPool& pool,
               const std::vector<HandoverStage>& leadIn) {
   const DrivenCard& d = *o.driven();
   const KickCard* kickCard = o.as<KickCard>();  // the kinds whose figures runBatch measures as it goes
@@ -115,12 +118,14 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
   pool.parallelFor(n, [&](int i) {
     Episode& e = eps[size_t(i)];
     e.model = model;
-    const double friction = walking ? walk.randomisation.friction.lo +
-                                          (walk.randomisation.friction.hi - walk.randomisation.friction.lo) * unit(e.rng)
-                                    : 1.0;
+    const double friction = walking
+                                ? walk.randomisation.friction.lo +
+                                      (walk.randomisation.friction.hi - walk.randomisation.friction.lo) * unit(e.rng)
+                                : 1.0;
     if (walking)
       e.model.articulation.base.mass +=
-          walk.randomisation.addedMass.lo + (walk.randomisation.addedMass.hi - walk.randomisation.addedMass.lo) * unit(e.rng);
+          walk.randomisation.addedMass.lo +
+          (walk.randomisation.addedMass.hi - walk.randomisation.addedMass.lo) * unit(e.rng);
     const bool stairs = o.kind() == CardKind::Stairs;
     auto place = [&] {
       e.world = std::make_unique<engine::PhysicsWorld>();
@@ -186,7 +191,8 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
       e.sensors = e.robot->sense(*e.world);
       if (const StairsCard* stairsCard = o.as<StairsCard>(); stairsCard && stairsCard->steer > 0) {
         // a player keeping the robot square to the staircase (it runs along +X), with play's heading-hold law
-        // (robot::shapeCommand's heading hold): steer x the heading error, at most kHeadingMaxRate and the skill's wz range
+        // (robot::shapeCommand's heading hold): steer x the heading error, at most kHeadingMaxRate and the skill's wz
+        // range
         e.command.wz = robot::squareToPlusX(e.sensors.yaw, stairsCard->steer, walk.commands);
       }
       const int tick = t + 1;
@@ -218,14 +224,16 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
         ++e.counted;
       }
       e.maxX = std::max(e.maxX, e.sensors.basePosition.x());
-      if (e.headingDown < 0 && e.sensors.basePosition.x() > downX) e.headingDown = std::abs(std::remainder(e.sensors.yaw, 2.0 * M_PI));
+      if (e.headingDown < 0 && e.sensors.basePosition.x() > downX)
+        e.headingDown = std::abs(std::remainder(e.sensors.yaw, 2.0 * M_PI));
       if (e.ball >= 0) {
         e.ballState = e.world->ballState(e.ball);
         ballIntoCommand(e.sensors, e.ballState, &e.command);
         const Eigen::Vector2d v = e.ballState.velocity.head<2>();
         const double along = v.dot(e.kickDirection);
         const double angle = std::atan2(std::abs(v.x() * e.kickDirection.y() - v.y() * e.kickDirection.x()), along);
-        if (kickCard && along > 0 && angle <= kickCard->angleDegrees * M_PI / 180.0) e.bestKick = std::max(e.bestKick, v.norm());
+        if (kickCard && along > 0 && angle <= kickCard->angleDegrees * M_PI / 180.0)
+          e.bestKick = std::max(e.bestKick, v.norm());
       }
       if (!e.sensors.footContact[0] && !e.sensors.footContact[1]) {
         ++e.flightTicks;
@@ -241,7 +249,8 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
       }
       if (proneCard) {
         const Eigen::Vector3d v = e.sensors.baseRotation * e.sensors.linearVelocity;
-        if (tick > 1) e.peakAcceleration = std::max(e.peakAcceleration, (v - e.lastVelocity).norm() / engine::kTickSeconds);
+        if (tick > 1)
+          e.peakAcceleration = std::max(e.peakAcceleration, (v - e.lastVelocity).norm() / engine::kTickSeconds);
         e.lastVelocity = v;
         const double pitch = robot::forwardPitch(e.sensors) * 180.0 / M_PI;
         const double torsoHeight = e.robot->linkPose(*e.world, model.torso).translation().z();
@@ -250,8 +259,8 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
       }
       // lifted: on the left foot alone, the right sole at least liftHeight up (a folded leg's toe resting on the
       // ground does not count, however high the ankle is)
-      const bool lifted = balanceCard && e.sensors.footHeight[1] >= balanceCard->liftHeight && e.sensors.footContact[0] &&
-                          !e.sensors.footContact[1];
+      const bool lifted = balanceCard && e.sensors.footHeight[1] >= balanceCard->liftHeight &&
+                          e.sensors.footContact[0] && !e.sensors.footContact[1];
       e.liftRun = lifted ? e.liftRun + 1 : 0;
       e.longestLift = std::max(e.longestLift, e.liftRun);
       if (e.pushes && tick >= e.nextPush) {
@@ -287,12 +296,12 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
 
   std::vector<Episode> walking(size_t(o.episodes));
   for (Episode& e : walking) e.rng.seed(seeder());
-  runBatch(model, skill, policy, o, walking, int(std::lround(d.episodeSeconds / engine::kTickSeconds)), Mode::kWalking, pool,
-           leadIn);
+  runBatch(model, skill, policy, o, walking, int(std::lround(d.episodeSeconds / engine::kTickSeconds)), Mode::kWalking,
+           pool, leadIn);
   std::vector<Episode> standing(size_t(d.standEpisodes));
   for (Episode& e : standing) e.rng.seed(seeder());
-  runBatch(model, skill, policy, o, standing, int(std::lround(d.standSeconds / engine::kTickSeconds)), Mode::kStanding, pool,
-           {});
+  runBatch(model, skill, policy, o, standing, int(std::lround(d.standSeconds / engine::kTickSeconds)), Mode::kStanding,
+           pool, {});
 
   double kindError[4] = {0, 0, 0, 0};
   long kindCount[4] = {0, 0, 0, 0};
@@ -329,8 +338,10 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   const double meanYaw = counted ? yaw / double(counted) : 1e9;
   // a figure with a bar is checked; the others are reported
   auto add = [&](const std::string& name, double value, double limit, const char* unit, bool atLeast) {
-    if (limit < 0) r.figures.push_back({name, value, "(reported)", true});
-    else r.figures.push_back({name, value, bar(limit, unit), atLeast ? value >= limit : value <= limit});
+    if (limit < 0)
+      r.figures.push_back({name, value, "(reported)", true});
+    else
+      r.figures.push_back({name, value, bar(limit, unit), atLeast ? value >= limit : value <= limit});
   };
   add("episodes without a fall", noFall, d.noFallPercent, "%", true);
   // tracking figures belong to the skills that move on command (and to any card that puts a bar on them)
@@ -341,7 +352,8 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   if (!leadIn.empty()) {  // how often the way in (not the skill) fell and was drawn again
     int again = 0, lost = 0;
     for (const Episode& e : walking) again += e.leadInFalls, lost += e.leadInFalls >= 5;
-    r.figures.push_back({"lead-ins that fell and were drawn again (5 in a row: the episode counts as a fall)", double(again), "(reported)", true});
+    r.figures.push_back({"lead-ins that fell and were drawn again (5 in a row: the episode counts as a fall)",
+                         double(again), "(reported)", true});
     if (lost > 0) r.figures.push_back({"episodes lost to their lead-in", double(lost), "(reported)", true});
   }
   double balanceScore = 0;
@@ -371,7 +383,8 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
     add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean qualifying jumps per episode", jumps, "(reported)", true});
     r.figures.push_back({"mean best apex above start [m]", apex, "(reported)", true});
-    balanceScore = 2.0 * success / std::max(1, o.episodes) + std::min(jumps, double(jump->jumps)) / jump->jumps + 5.0 * std::min(apex, 0.2);
+    balanceScore = 2.0 * success / std::max(1, o.episodes) + std::min(jumps, double(jump->jumps)) / jump->jumps +
+                   5.0 * std::min(apex, 0.2);
   }
   if (const StairsCard* stairs = o.as<StairsCard>()) {
     int across = 0;
@@ -382,7 +395,8 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
       progress += std::clamp(e.maxX / end, 0.0, 1.0) / std::max(1, o.episodes);
     }
     char name[96];
-    std::snprintf(name, sizeof name, "episodes up and down %d steps of %.2f m", skill.terrain.steps, stairs->stepHeight);
+    std::snprintf(name, sizeof name, "episodes up and down %d steps of %.2f m", skill.terrain.steps,
+                  stairs->stepHeight);
     add(name, 100.0 * across / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean progress along the stairs", 100.0 * progress, "(reported) %", true});
     double heading = 0;
@@ -390,8 +404,8 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
     for (const Episode& e : walking)
       if (e.headingDown >= 0) heading += e.headingDown * 180.0 / M_PI, ++down;
     if (down > 0)  // (no figure when no episode got there: a 0 would read as squared up)
-      r.figures.push_back({"heading off the stairs where the way down begins, mean of |.| [deg]", heading / down,
-                           "(reported)", true});
+      r.figures.push_back(
+          {"heading off the stairs where the way down begins, mean of |.| [deg]", heading / down, "(reported)", true});
     balanceScore = 2.0 * across / std::max(1, o.episodes) + 2.0 * progress;
   }
   if (const BalanceCard* balance = o.as<BalanceCard>()) {
@@ -419,8 +433,9 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
       meanPeak += e.peakAcceleration / std::max(1, o.episodes);
     }
     char name[128];
-    std::snprintf(name, sizeof name, "episodes lying (torso < %.2f m, pitch %.0f-%.0f deg) within %.1f s and at the end",
-                  prone->height, prone->pitch.lo, prone->pitch.hi, prone->seconds);
+    std::snprintf(name, sizeof name,
+                  "episodes lying (torso < %.2f m, pitch %.0f-%.0f deg) within %.1f s and at the end", prone->height,
+                  prone->pitch.lo, prone->pitch.hi, prone->seconds);
     add(name, 100.0 * success / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean time to lying [s]", reached ? seconds / reached : 1e9, "(reported)", true});
     int side = 0, back = 0, over = 0;
@@ -433,8 +448,8 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
       fallSeconds += e.fallTick * engine::kTickSeconds;
     }
     if (upright < o.episodes) {
-      std::snprintf(name, sizeof name, "  falls: onto a side %d, onto the back %d, over the head %d; mean time %.2f s", side,
-                    back, over, fallSeconds / std::max(1, o.episodes - upright));
+      std::snprintf(name, sizeof name, "  falls: onto a side %d, onto the back %d, over the head %d; mean time %.2f s",
+                    side, back, over, fallSeconds / std::max(1, o.episodes - upright));
       r.figures.push_back({name, double(o.episodes - upright), "(reported)", true});
     }
     r.figures.push_back({"peak impact: pelvis acceleration, mean of episodes [m/s^2]", meanPeak, "(reported)", true});
@@ -442,17 +457,21 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
     balanceScore = 2.0 * success / std::max(1, o.episodes) + double(reached) / std::max(1, o.episodes) -
                    std::min(meanPeak, 500.0) / 500.0;
   }
-  if (o.kind() == CardKind::Height) add("mean |h - h_target| (pelvis)", meanHeight, o.as<HeightCard>()->heightError, "m", false);
-  const char* kinds[4] = {"  of which forward/backward", "  of which sideways", "  of which turning", "  of which zero command"};
+  if (o.kind() == CardKind::Height)
+    add("mean |h - h_target| (pelvis)", meanHeight, o.as<HeightCard>()->heightError, "m", false);
+  const char* kinds[4] = {"  of which forward/backward", "  of which sideways", "  of which turning",
+                          "  of which zero command"};
   for (int k = 0; k < 4; ++k)
-    if (moves && kindCount[k] && d.mix[size_t(k)] < 1.0) r.figures.push_back({kinds[k], kindError[k] / double(kindCount[k]), "(reported)", true});
+    if (moves && kindCount[k] && d.mix[size_t(k)] < 1.0)
+      r.figures.push_back({kinds[k], kindError[k] / double(kindCount[k]), "(reported)", true});
   r.figures.push_back({"mean time survived (of each episode)", 100.0 * survival, "(reported) %", true});
   if (moves && upright < o.episodes) {
     int byKind[4] = {0, 0, 0, 0}, afterPush = 0, afterChange = 0;
     for (const Episode& e : walking)
       if (e.fallen) ++byKind[e.fallKind], afterPush += e.fellAfterPush, afterChange += e.fellAfterChange;
     char name[160];
-    std::snprintf(name, sizeof name, "  falls: fwd/back %d, side %d, turn %d, zero %d; <2 s after a push %d, <2 s after a change %d",
+    std::snprintf(name, sizeof name,
+                  "  falls: fwd/back %d, side %d, turn %d, zero %d; <2 s after a push %d, <2 s after a change %d",
                   byKind[0], byKind[1], byKind[2], byKind[3], afterPush, afterChange);
     r.figures.push_back({name, double(o.episodes - upright), "(reported)", true});
     // when: falls per command segment of the episode
@@ -490,7 +509,10 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   // survival counts twice so that a policy cannot score by falling before tracking errors accumulate
   r.score = 2.0 * survival + noFall / 100.0 - std::min(meanSpeed, 2.0) - 0.5 * std::min(meanYaw, 2.0) -
             (o.kind() == CardKind::Height ? 5.0 * std::min(meanHeight, 1.0) : 0.0) -
-            (d.standEpisodes == 0 ? 0.0 : standFalls ? 1.0 : std::min(drift, 1.0)) + balanceScore;
+            (d.standEpisodes == 0 ? 0.0
+             : standFalls         ? 1.0
+                                  : std::min(drift, 1.0)) +
+            balanceScore;
   return r;
 }
 

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "ai/env/skill_env.h"
-#include "robot/skill_layout.h"
 #include "ai/tree/training_tree.h"
+#include "robot/skill_layout.h"
 
 namespace ai {
 
@@ -39,10 +39,10 @@ struct CardResult {
   double score = 0;
 };
 
-/// Runs a velocity or height card (CardKind::Velocity / Height, and the other driven kinds). Commands are one of forward, sideways, turn or zero at a
-/// time (the keyboard's interlock), drawn with the card's mix. With `leadIn` (the card's lead_in: the skills that
-/// drive first, as in the skill's training handover episodes, see runHandover) each randomised episode starts where
-/// that route leaves the robot. Results do not depend on the thread count.
+/// Runs a velocity or height card (CardKind::Velocity / Height, and the other driven kinds). Commands are one of
+/// forward, sideways, turn or zero at a time (the keyboard's interlock), drawn with the card's mix. With `leadIn` (the
+/// card's lead_in: the skills that drive first, as in the skill's training handover episodes, see runHandover) each
+/// randomised episode starts where that route leaves the robot. Results do not depend on the thread count.
 CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skill, const PolicyFn& policy,
                            const CardRun& run, const std::vector<HandoverStage>& leadIn = {});
 

@@ -80,7 +80,8 @@ double ByteReader::f64() {
 
 uint64_t ByteReader::count(uint64_t elementSize) {
   const uint64_t n = u64();
-  if (elementSize > 0 && n > (data_.size() - pos_) / elementSize) fail("element count " + std::to_string(n) + " exceeds the data");
+  if (elementSize > 0 && n > (data_.size() - pos_) / elementSize)
+    fail("element count " + std::to_string(n) + " exceeds the data");
   return n;
 }
 

@@ -2,7 +2,6 @@
 #include "ai/nn/normalizer.h"
 
 #include <algorithm>
-
 #include <cmath>
 #include <stdexcept>
 
@@ -39,7 +38,9 @@ void RunningNormalizer::normalize(const Eigen::MatrixXf& x, Eigen::MatrixXf* out
   out->array() = ((x.colwise() - meanF_).array().colwise() * invStdF_.array()).max(-clip_).min(clip_);
 }
 
-Eigen::VectorXf RunningNormalizer::stddev() const { return (var_.array() + kVarianceEpsilon).sqrt().matrix().cast<float>(); }
+Eigen::VectorXf RunningNormalizer::stddev() const {
+  return (var_.array() + kVarianceEpsilon).sqrt().matrix().cast<float>();
+}
 
 void RunningNormalizer::refreshCache() {
   meanF_ = mean_.cast<float>();

@@ -93,13 +93,14 @@ void validateExport(const std::string& path, const PolicyExport& p) {
   auto bad = [&](const std::string& what) { fail(path, "cannot export: " + what); };
   const MlpWeights& a = p.actor;
   if (a.W.empty()) bad("the actor has no layers");
-  if (a.W.size() != a.b.size()) bad("the actor has " + std::to_string(a.W.size()) + " weight matrices but " +
-                                    std::to_string(a.b.size()) + " bias vectors");
+  if (a.W.size() != a.b.size())
+    bad("the actor has " + std::to_string(a.W.size()) + " weight matrices but " + std::to_string(a.b.size()) +
+        " bias vectors");
   for (size_t k = 0; k < a.W.size(); ++k) {
     const std::string layer = "layer " + std::to_string(k);
     if (a.W[k].rows() == 0 || a.W[k].cols() == 0) bad(layer + " has an empty weight matrix");
-    if (a.b[k].size() != a.W[k].rows()) bad(layer + " bias has " + std::to_string(a.b[k].size()) +
-                                            " entries, expected " + std::to_string(a.W[k].rows()));
+    if (a.b[k].size() != a.W[k].rows())
+      bad(layer + " bias has " + std::to_string(a.b[k].size()) + " entries, expected " + std::to_string(a.W[k].rows()));
     if (k > 0 && a.W[k].cols() != a.W[k - 1].rows())
       bad(layer + " takes " + std::to_string(a.W[k].cols()) + " inputs but layer " + std::to_string(k - 1) +
           " produces " + std::to_string(a.W[k - 1].rows()));
@@ -242,8 +243,7 @@ class GraphReader {
     if (g_.sparse_initializer_size() > 0) fail("graph has sparse initializers");
     for (const onnx::TensorProto& t : g_.initializer()) {
       if (t.name() == kInputName) fail("an initializer is named 'obs', like the graph input");
-      if (!initializers_.emplace(t.name(), &t).second)
-        fail("two initializers are named '" + printable(t.name()) + "'");
+      if (!initializers_.emplace(t.name(), &t).second) fail("two initializers are named '" + printable(t.name()) + "'");
     }
   }
 
@@ -262,7 +262,8 @@ class GraphReader {
     if (!tt.has_shape() || tt.shape().dim_size() != 2) fail(what + " is not a 2-D tensor [batch, features]");
     const auto& batch = tt.shape().dim(0);
     const auto& features = tt.shape().dim(1);
-    if (!batch.has_dim_param() || batch.dim_param().empty()) fail(what + " has a fixed batch size, expected a symbolic one");
+    if (!batch.has_dim_param() || batch.dim_param().empty())
+      fail(what + " has a fixed batch size, expected a symbolic one");
     if (!features.has_dim_value() || features.dim_value() <= 0 || features.dim_value() > (int64_t(1) << 24))
       fail(what + " has no valid feature count in dimension 1");
     return features.dim_value();
@@ -274,8 +275,7 @@ class GraphReader {
 
   // the node at k_, checked to be `op` reading the current value plus nInputs - 1 more, writing one output
   const onnx::NodeProto& node(const char* op, int nInputs) const {
-    if (k_ >= g_.node_size())
-      fail("graph ends after node " + std::to_string(k_ - 1) + "; expected a " + op + " node");
+    if (k_ >= g_.node_size()) fail("graph ends after node " + std::to_string(k_ - 1) + "; expected a " + op + " node");
     const onnx::NodeProto& n = g_.node(k_);
     if (n.op_type() != op) fail("node " + std::to_string(k_) + " is " + printable(n.op_type()) + ", expected " + op);
     if (!n.domain().empty() && n.domain() != "ai.onnx")

@@ -16,10 +16,10 @@ namespace ai {
 
 /// Everything that goes into a policy file. obsMean/obsStd have actor.inputSize() entries (std > 0).
 struct PolicyExport {
-  MlpWeights actor;                ///< deterministic actor: its output is the mean action
-  Eigen::VectorXf obsMean;         ///< running-normaliser mean, one per observation entry
-  Eigen::VectorXf obsStd;          ///< running-normaliser standard deviation (already including epsilon)
-  float obsClip = 5.0f;            ///< normalised observations are clipped to [-obsClip, obsClip]
+  MlpWeights actor;         ///< deterministic actor: its output is the mean action
+  Eigen::VectorXf obsMean;  ///< running-normaliser mean, one per observation entry
+  Eigen::VectorXf obsStd;   ///< running-normaliser standard deviation (already including epsilon)
+  float obsClip = 5.0f;     ///< normalised observations are clipped to [-obsClip, obsClip]
   std::vector<std::pair<std::string, std::string>> metadata;  ///< key/value strings; keys unique
 };
 
@@ -30,10 +30,10 @@ void savePolicyOnnx(const std::string& path, const PolicyExport& policy);
 
 /// A policy read back from an ONNX file written by savePolicyOnnx.
 struct LoadedPolicy {
-  MlpWeights actor;                ///< actor layers, same layout as in training
-  Eigen::VectorXf obsMean;         ///< normaliser mean
-  Eigen::VectorXf obsStd;          ///< normaliser standard deviation
-  float obsClip = 5.0f;            ///< clip range of normalised observations
+  MlpWeights actor;                             ///< actor layers, same layout as in training
+  Eigen::VectorXf obsMean;                      ///< normaliser mean
+  Eigen::VectorXf obsStd;                       ///< normaliser standard deviation
+  float obsClip = 5.0f;                         ///< clip range of normalised observations
   std::map<std::string, std::string> metadata;  ///< the file's metadata_props
 
   /// Number of observation entries the policy expects.

@@ -19,9 +19,17 @@ std::string joinNumbers(const double* v, size_t n) {
 
 // the keys that define how a policy's output becomes joint torques; a mismatch means a different controller
 const char* const kControllerKeys[] = {
-    "treelearn.layout_version", "treelearn.observation_size", "treelearn.action_size", "treelearn.joint_order",
-    "treelearn.default_pose",   "treelearn.action_scale",     "treelearn.action_clip", "treelearn.action_filter",
-    "treelearn.kp",             "treelearn.kd",               "treelearn.prior",
+    "treelearn.layout_version",
+    "treelearn.observation_size",
+    "treelearn.action_size",
+    "treelearn.joint_order",
+    "treelearn.default_pose",
+    "treelearn.action_scale",
+    "treelearn.action_clip",
+    "treelearn.action_filter",
+    "treelearn.kp",
+    "treelearn.kd",
+    "treelearn.prior",
 };
 
 }  // namespace
@@ -33,17 +41,19 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
     joints += (j ? "," : "") + model.joints[j].name;
     defaults[j] = model.joints[j].defaultPosition;
   }
-  const char* prior = skill.prior.kind == robot::PriorDef::Kind::Phase ? "phase"
-                      : skill.prior.kind == robot::PriorDef::Kind::Pose ? "pose"
-                      : skill.prior.kind == robot::PriorDef::Kind::Jump ? "jump"
-                      : skill.prior.kind == robot::PriorDef::Kind::Kick ? "kick"
+  const char* prior = skill.prior.kind == robot::PriorDef::Kind::Phase       ? "phase"
+                      : skill.prior.kind == robot::PriorDef::Kind::Pose      ? "pose"
+                      : skill.prior.kind == robot::PriorDef::Kind::Jump      ? "jump"
+                      : skill.prior.kind == robot::PriorDef::Kind::Kick      ? "kick"
                       : skill.prior.kind == robot::PriorDef::Kind::Keyframes ? "keyframes"
-                                                                          : "none";
+                                                                             : "none";
   std::string keyframes;  // " keys=tick:o0,o1,...;tick:..." for a keyframes prior
   for (const robot::PriorDef::Keyframe& k : skill.prior.keyframes)
-    keyframes += (keyframes.empty() ? " keys=" : ";") + std::to_string(k.tick) + ":" + joinNumbers(k.offset.data(), k.offset.size());
+    keyframes += (keyframes.empty() ? " keys=" : ";") + std::to_string(k.tick) + ":" +
+                 joinNumbers(k.offset.data(), k.offset.size());
   if (skill.prior.cycleTicks > 0)
-    keyframes += skill.prior.cycleStartTick > 0 ? " repeat_from=" + std::to_string(skill.prior.cycleStartTick) : std::string(" repeat");
+    keyframes += skill.prior.cycleStartTick > 0 ? " repeat_from=" + std::to_string(skill.prior.cycleStartTick)
+                                                : std::string(" repeat");
   std::ostringstream filter;
   filter.precision(9);
   filter << skill.actionFilter;
@@ -63,21 +73,23 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
       {"treelearn.kd", joinNumbers(skill.kd.data(), skill.kd.size())},
       {"treelearn.control_rate_hz", "100"},
       {"treelearn.physics_substep_s", "0.002"},
-      {"treelearn.prior", std::string(prior) + " T1=" + std::to_string(skill.prior.halfPeriodTicks) +
-                              " dh=" + std::to_string(skill.prior.dh) + " d0=" + std::to_string(skill.prior.d0) +
-                              " stand_still=" + (skill.prior.standStill ? "true" : "false") +
-                              (skill.prior.standRampTicks != 0 ? " stand_ramp_ticks=" + std::to_string(skill.prior.standRampTicks) : "") +
-                              (skill.prior.stride != 0 ? " stride=" + std::to_string(skill.prior.stride) : "") +
-                              (skill.prior.armSwing != 0 ? " arm_swing=" + std::to_string(skill.prior.armSwing) : "") +
-                              (skill.prior.kind == robot::PriorDef::Kind::Pose || skill.prior.kind == robot::PriorDef::Kind::Jump ||
-                                       skill.prior.kind == robot::PriorDef::Kind::Kick
-                                   ? " offset=" + joinNumbers(skill.prior.poseOffset.data(), skill.prior.poseOffset.size())
-                                   : "") +
-                              (skill.prior.kind == robot::PriorDef::Kind::Kick
-                                   ? " swing=" + joinNumbers(skill.prior.swingOffset.data(), skill.prior.swingOffset.size())
-                                   : "") +
-                              (skill.prior.hasLate ? " late=" + joinNumbers(skill.prior.lateOffset.data(), skill.prior.lateOffset.size()) : "") +
-                              (skill.prior.crouch != 0 ? " crouch=" + std::to_string(skill.prior.crouch) : "") + keyframes},
+      {"treelearn.prior",
+       std::string(prior) + " T1=" + std::to_string(skill.prior.halfPeriodTicks) +
+           " dh=" + std::to_string(skill.prior.dh) + " d0=" + std::to_string(skill.prior.d0) +
+           " stand_still=" + (skill.prior.standStill ? "true" : "false") +
+           (skill.prior.standRampTicks != 0 ? " stand_ramp_ticks=" + std::to_string(skill.prior.standRampTicks) : "") +
+           (skill.prior.stride != 0 ? " stride=" + std::to_string(skill.prior.stride) : "") +
+           (skill.prior.armSwing != 0 ? " arm_swing=" + std::to_string(skill.prior.armSwing) : "") +
+           (skill.prior.kind == robot::PriorDef::Kind::Pose || skill.prior.kind == robot::PriorDef::Kind::Jump ||
+                    skill.prior.kind == robot::PriorDef::Kind::Kick
+                ? " offset=" + joinNumbers(skill.prior.poseOffset.data(), skill.prior.poseOffset.size())
+                : "") +
+           (skill.prior.kind == robot::PriorDef::Kind::Kick
+                ? " swing=" + joinNumbers(skill.prior.swingOffset.data(), skill.prior.swingOffset.size())
+                : "") +
+           (skill.prior.hasLate ? " late=" + joinNumbers(skill.prior.lateOffset.data(), skill.prior.lateOffset.size())
+                                : "") +
+           (skill.prior.crouch != 0 ? " crouch=" + std::to_string(skill.prior.crouch) : "") + keyframes},
       {"treelearn.robot_hash", engine::toHex(model.hash)},
       {"treelearn.env_steps", std::to_string(envSteps)},
       {"treelearn.seed", std::to_string(seed)},
@@ -92,8 +104,8 @@ void checkModelMatchesSkill(const LoadedPolicy& policy, const std::string& model
     if (inFile == policy.metadata.end()) continue;
     for (const auto& [k, v] : now)
       if (k == key && v != inFile->second)
-        throw engine::Error(modelPath + ": skill '" + skill.name + "' was trained with " + key + " = '" + inFile->second +
-                            "' but " + treePath + " now gives '" + v +
+        throw engine::Error(modelPath + ": skill '" + skill.name + "' was trained with " + key + " = '" +
+                            inFile->second + "' but " + treePath + " now gives '" + v +
                             "': retrain the skill (treelearn train " + skill.name + ") or restore its tree entry");
   }
 }

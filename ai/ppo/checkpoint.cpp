@@ -35,11 +35,11 @@ std::string_view unwrap(const char (&magic)[8], const std::string& bytes, const 
   const uint64_t length = header.u64();
   const uint64_t checksum = header.u64();
   if (version != kCheckpointVersion)
-    throw engine::Error(path + ": " + kind + " version " + std::to_string(version) + " is not supported (this build reads " +
-                        std::to_string(kCheckpointVersion) + ")");
+    throw engine::Error(path + ": " + kind + " version " + std::to_string(version) +
+                        " is not supported (this build reads " + std::to_string(kCheckpointVersion) + ")");
   if (length != bytes.size() - kHeaderSize)
-    throw engine::Error(path + ": truncated or padded: header says " + std::to_string(length) + " payload bytes, file has " +
-                        std::to_string(bytes.size() - kHeaderSize));
+    throw engine::Error(path + ": truncated or padded: header says " + std::to_string(length) +
+                        " payload bytes, file has " + std::to_string(bytes.size() - kHeaderSize));
   const std::string_view payload = std::string_view(bytes).substr(kHeaderSize);
   if (engine::hashBytes(payload) != checksum) throw engine::Error(path + ": checksum mismatch (the file is corrupted)");
   return payload;

@@ -6,9 +6,8 @@
 namespace ai {
 
 void computeGae(const Eigen::MatrixXf& rewards, const Eigen::MatrixXf& values, const FlagMatrix& terminated,
-                const FlagMatrix& truncated, const Eigen::MatrixXf& truncatedValues,
-                const Eigen::VectorXf& lastValues, double gamma, double lambda, Eigen::MatrixXf* advantages,
-                Eigen::MatrixXf* returns) {
+                const FlagMatrix& truncated, const Eigen::MatrixXf& truncatedValues, const Eigen::VectorXf& lastValues,
+                double gamma, double lambda, Eigen::MatrixXf* advantages, Eigen::MatrixXf* returns) {
   const Eigen::Index steps = rewards.rows(), envs = rewards.cols();
   if (values.rows() != steps || values.cols() != envs || terminated.rows() != steps || terminated.cols() != envs ||
       truncated.rows() != steps || truncated.cols() != envs || truncatedValues.rows() != steps ||

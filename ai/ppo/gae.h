@@ -17,8 +17,7 @@ using FlagMatrix = Eigen::Matrix<uint8_t, Eigen::Dynamic, Eigen::Dynamic>;
 /// terminated nor truncated). Writes advantages and returns (= advantages + values), T x N.
 /// Accumulates in double.
 void computeGae(const Eigen::MatrixXf& rewards, const Eigen::MatrixXf& values, const FlagMatrix& terminated,
-                const FlagMatrix& truncated, const Eigen::MatrixXf& truncatedValues,
-                const Eigen::VectorXf& lastValues, double gamma, double lambda, Eigen::MatrixXf* advantages,
-                Eigen::MatrixXf* returns);
+                const FlagMatrix& truncated, const Eigen::MatrixXf& truncatedValues, const Eigen::VectorXf& lastValues,
+                double gamma, double lambda, Eigen::MatrixXf* advantages, Eigen::MatrixXf* returns);
 
 }  // namespace ai

@@ -39,7 +39,8 @@ PolicyState makePolicyState(const PpoConfig& config, int observationSize, int ac
   p.critic = makeMlp(layerSizes(observationSize, config.criticHidden, 1), config.activation,
                      splitMix64(seed ^ 0xC2171Cull), float(config.criticOutputGain));
   // without normalisation the normaliser stays at its prior (mean 0, std 1 in float) and never clips
-  p.normalizer = RunningNormalizer(observationSize, config.normalizeObservations ? float(config.observationClip) : FLT_MAX);
+  p.normalizer =
+      RunningNormalizer(observationSize, config.normalizeObservations ? float(config.observationClip) : FLT_MAX);
   p.logStd = Eigen::VectorXf::Constant(actionSize, float(config.initialLogStd));
   return p;
 }
@@ -65,8 +66,10 @@ PpoCoefficients scheduledCoefficients(const PpoConfig& config, double progress) 
 }
 
 double adaptLearningRate(double learningRate, double kl, const PpoConfig& config) {
-  if (kl > 2.0 * config.desiredKl) learningRate /= 1.5;
-  else if (kl < 0.5 * config.desiredKl) learningRate *= 1.5;
+  if (kl > 2.0 * config.desiredKl)
+    learningRate /= 1.5;
+  else if (kl < 0.5 * config.desiredKl)
+    learningRate *= 1.5;
   return std::clamp(learningRate, config.adaptiveLrMin, config.adaptiveLrMax);
 }
 
@@ -93,7 +96,8 @@ PpoStats PpoUpdater::update(const RolloutBuffer& buffer, const PpoCoefficients& 
   for (int epoch = 0; epoch < config_.numEpoch; ++epoch) {
     // Fisher-Yates with our own index draw (std::shuffle's algorithm is library-specific)
     std::iota(permutation_.begin(), permutation_.end(), 0);
-    for (int i = total - 1; i > 0; --i) std::swap(permutation_[size_t(i)], permutation_[size_t((*rng)() % uint64_t(i + 1))]);
+    for (int i = total - 1; i > 0; --i)
+      std::swap(permutation_[size_t(i)], permutation_[size_t((*rng)() % uint64_t(i + 1))]);
 
     for (int mb = 0; mb < minibatches; ++mb) {
       // gather the minibatch columns
@@ -202,7 +206,8 @@ void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, Pp
   appendTensor(&grads_.logStd, &gradRefs_);
 
   // refuse a non-finite step, then clip and apply
-  if (actorFrozen_) {  // critic warm-up: nothing moves the actor or its noise (and its gradient does not clip the critic's)
+  if (actorFrozen_) {  // critic warm-up: nothing moves the actor or its noise (and its gradient does not clip the
+                       // critic's)
     for (Eigen::MatrixXf& w : grads_.actor.W) w.setZero();
     for (Eigen::VectorXf& b : grads_.actor.b) b.setZero();
     grads_.logStd.setZero();

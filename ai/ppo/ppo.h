@@ -4,8 +4,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -20,10 +20,10 @@ namespace ai {
 
 /// Everything that defines a policy and its critic; what a branch skill inherits from its parent.
 struct PolicyState {
-  MlpWeights actor;               ///< normalised obs -> action mean (actSize)
-  MlpWeights critic;              ///< normalised obs -> value (1)
-  RunningNormalizer normalizer;   ///< observation statistics shared by actor and critic
-  Eigen::VectorXf logStd;         ///< actSize: state-independent log standard deviation (nats)
+  MlpWeights actor;              ///< normalised obs -> action mean (actSize)
+  MlpWeights critic;             ///< normalised obs -> value (1)
+  RunningNormalizer normalizer;  ///< observation statistics shared by actor and critic
+  Eigen::VectorXf logStd;        ///< actSize: state-independent log standard deviation (nats)
 
   /// Observation entries expected.
   int observationSize() const { return actor.inputSize(); }

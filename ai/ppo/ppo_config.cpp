@@ -2,10 +2,11 @@
 // parser, the writer and the hash, so a new field cannot be forgotten in one of them.
 #include "ai/ppo/ppo_config.h"
 
+#include <toml++/toml.h>
+
 #include <charconv>
 #include <cmath>
 #include <set>
-#include <toml++/toml.h>
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
@@ -89,9 +90,12 @@ struct FieldReader {
   }
   void operator()(Activation& v) const {
     const auto s = node.value_exact<std::string>();
-    if (s && *s == "elu") v = Activation::Elu;
-    else if (s && *s == "tanh") v = Activation::Tanh;
-    else fail("\"elu\" or \"tanh\"");
+    if (s && *s == "elu")
+      v = Activation::Elu;
+    else if (s && *s == "tanh")
+      v = Activation::Tanh;
+    else
+      fail("\"elu\" or \"tanh\"");
   }
 };
 
@@ -133,16 +137,19 @@ void validatePpoConfig(const PpoConfig& c, const std::string& what) {
   require(c.learningRate >= 0 && c.learningRateFinal >= 0 && c.branchLearningRate >= 0,
           "learning rates must be non-negative");
   require(c.desiredKl > 0, "desired_kl must be positive");
-  require(c.adaptiveLrMin > 0 && c.adaptiveLrMin <= c.adaptiveLrMax, "adaptive_lr_min must be positive and at most adaptive_lr_max");
+  require(c.adaptiveLrMin > 0 && c.adaptiveLrMin <= c.adaptiveLrMax,
+          "adaptive_lr_min must be positive and at most adaptive_lr_max");
   require(c.epsilon > 0 && c.epsilonFinal > 0, "epsilon and epsilon_final must be positive");
   require(c.beta >= 0 && c.betaFinal >= 0, "beta and beta_final must be non-negative");
   require(c.valueLossCoef >= 0, "value_loss_coef must be non-negative");
   require(c.maxGradNorm > 0, "max_grad_norm must be positive");
   require(!c.actorHidden.empty() && !c.criticHidden.empty(), "actor_hidden and critic_hidden need at least one layer");
   // sizes a 2-core machine can hold and finish: a layer of 2^31 units ends in bad_alloc, 2^31 epochs never end
-  require(c.bufferSize <= 10000000 && c.batchSize <= c.bufferSize, "buffer_size must be at most 10^7 and batch_size at most buffer_size");
+  require(c.bufferSize <= 10000000 && c.batchSize <= c.bufferSize,
+          "buffer_size must be at most 10^7 and batch_size at most buffer_size");
   require(c.numEpoch <= 1000, "num_epoch must be at most 1000");
-  require(c.actorHidden.size() <= 16 && c.criticHidden.size() <= 16, "actor_hidden and critic_hidden have at most 16 layers");
+  require(c.actorHidden.size() <= 16 && c.criticHidden.size() <= 16,
+          "actor_hidden and critic_hidden have at most 16 layers");
   for (int h : c.actorHidden) require(h > 0 && h <= 8192, "actor_hidden widths must be in [1, 8192]");
   for (int h : c.criticHidden) require(h > 0 && h <= 8192, "critic_hidden widths must be in [1, 8192]");
   require(c.learningRate < 1 && c.learningRateFinal < 1 && c.branchLearningRate < 1 && c.adaptiveLrMax < 1,
@@ -180,8 +187,8 @@ PpoConfig parsePpoConfig(std::string_view tomlText, const std::string& fileName,
   visitFields(config, [&](const char* key, auto&) { known.insert(key); });
   for (const auto& [k, v] : *t) {
     if (!known.count(std::string(k.str())))
-      throw Error(located(fileName, int(k.source().begin.line), "unknown key '" + std::string(k.str()) + "'" +
-                                                                     (table.empty() ? "" : " in [" + table + "]")));
+      throw Error(located(fileName, int(k.source().begin.line),
+                          "unknown key '" + std::string(k.str()) + "'" + (table.empty() ? "" : " in [" + table + "]")));
   }
   visitFields(config, [&](const char* key, auto& field) {
     if (const toml::node* n = t->get(key)) {

@@ -10,19 +10,19 @@
 namespace ai {
 
 struct RolloutBuffer {
-  int steps = 0;                   ///< T: steps per environment
-  int envs = 0;                    ///< N: environments
-  Eigen::MatrixXf observations;    ///< obsSize x T*N: normalised observations, as the policy saw them
-  Eigen::MatrixXf actions;         ///< actSize x T*N: sampled (unclipped) actions
-  Eigen::VectorXf logProbs;        ///< T*N: log-probability of each action when it was sampled
-  Eigen::MatrixXf values;          ///< T x N: V(s_t) at sampling time
-  Eigen::MatrixXf rewards;         ///< T x N: scaled rewards
-  FlagMatrix terminated;           ///< T x N: 1 = fell at this step
-  FlagMatrix truncated;            ///< T x N: 1 = timed out at this step
-  Eigen::MatrixXf truncatedValues; ///< T x N: V(final observation) where truncated, else 0
-  Eigen::VectorXf lastValues;      ///< N: V of the observation after the last step
-  Eigen::MatrixXf advantages;      ///< T x N: from computeGae
-  Eigen::MatrixXf returns;         ///< T x N: advantages + values
+  int steps = 0;                    ///< T: steps per environment
+  int envs = 0;                     ///< N: environments
+  Eigen::MatrixXf observations;     ///< obsSize x T*N: normalised observations, as the policy saw them
+  Eigen::MatrixXf actions;          ///< actSize x T*N: sampled (unclipped) actions
+  Eigen::VectorXf logProbs;         ///< T*N: log-probability of each action when it was sampled
+  Eigen::MatrixXf values;           ///< T x N: V(s_t) at sampling time
+  Eigen::MatrixXf rewards;          ///< T x N: scaled rewards
+  FlagMatrix terminated;            ///< T x N: 1 = fell at this step
+  FlagMatrix truncated;             ///< T x N: 1 = timed out at this step
+  Eigen::MatrixXf truncatedValues;  ///< T x N: V(final observation) where truncated, else 0
+  Eigen::VectorXf lastValues;       ///< N: V of the observation after the last step
+  Eigen::MatrixXf advantages;       ///< T x N: from computeGae
+  Eigen::MatrixXf returns;          ///< T x N: advantages + values
 
   /// Sample count T*N.
   int size() const { return steps * envs; }

@@ -91,7 +91,7 @@ void Trainer::initialiseFrom(const PolicyState& parent, float reinflateLogStd, b
 }
 
 std::vector<std::string> Trainer::logColumns() const {
-  std::vector<std::string> c = {"iteration", "env_steps", "wall_s", "steps_per_s", "mean_reward",
+  std::vector<std::string> c = {"iteration",           "env_steps",          "wall_s", "steps_per_s", "mean_reward",
                                 "mean_episode_return", "mean_episode_length"};
   for (const std::string& name : env_.rewardTermNames()) c.push_back("reward_" + name);
   for (const char* name : {"entropy", "approx_kl", "clip_fraction", "explained_variance", "policy_loss", "value_loss",
@@ -109,7 +109,8 @@ void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
 
   // a fresh start from a seed derived from (run seed, iteration): nothing carries over between iterations
   env_.reset(splitMix64(options_.seed ^ splitMix64(uint64_t(iteration_) ^ kResetSeedSalt)), &obs_);
-  if (obs_.rows() != obsSize || obs_.cols() != envs) throw Error("trainer: env.reset returned observations of the wrong shape");
+  if (obs_.rows() != obsSize || obs_.cols() != envs)
+    throw Error("trainer: env.reset returned observations of the wrong shape");
 
   for (int t = 0; t < steps; ++t) {
     // batched inference: one forward of actor and critic for all environments
@@ -136,8 +137,9 @@ void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
     timing->physics += std::chrono::duration<double>(t2 - t1).count();
 
     // store rewards and how each episode ended
-    if (step_.rewards.size() != envs || step_.terminated.size() != size_t(envs) || step_.truncated.size() != size_t(envs) ||
-        step_.observations.rows() != obsSize || step_.observations.cols() != envs)
+    if (step_.rewards.size() != envs || step_.terminated.size() != size_t(envs) ||
+        step_.truncated.size() != size_t(envs) || step_.observations.rows() != obsSize ||
+        step_.observations.cols() != envs)
       throw Error("trainer: env.step returned results of the wrong shape");
     requireFinite(step_.rewards, "reward", iteration_, t);
     int truncatedCount = 0;
@@ -257,9 +259,9 @@ std::string Trainer::logRow(const TrainerProgress& p, const RolloutStats& r, dou
                     fmt(stepsPerSecond) + "," + fmt(p.meanReward) + "," + fmt(p.meanEpisodeReturn) + "," +
                     fmt(p.meanEpisodeLength);
   for (double sum : r.termSums) row += "," + fmt(sum / samples);
-  for (double v : {p.stats.entropy, p.stats.approxKl, p.stats.clipFraction, p.stats.explainedVariance,
-                   p.stats.policyLoss, p.stats.valueLoss, p.stats.gradNorm, lr, timing.physics, timing.inference,
-                   timing.update})
+  for (double v :
+       {p.stats.entropy, p.stats.approxKl, p.stats.clipFraction, p.stats.explainedVariance, p.stats.policyLoss,
+        p.stats.valueLoss, p.stats.gradNorm, lr, timing.physics, timing.inference, timing.update})
     row += "," + fmt(v);
   row += "," + (std::isnan(p.evalScore) ? std::string() : fmt(p.evalScore));
   row += "," + std::to_string(rolloutLesson_);

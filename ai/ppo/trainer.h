@@ -19,18 +19,18 @@ namespace ai {
 
 /// Reported after every iteration.
 struct TrainerProgress {
-  int64_t iteration = 0;          ///< completed iterations
-  int64_t totalIterations = 0;    ///< iterations the run will take
-  int64_t envSteps = 0;           ///< environment steps so far
-  int64_t totalSteps = 0;         ///< the run's budget
-  double stepsPerSecond = 0;      ///< environment steps per wall second, averaged over this process's iterations
-  double etaSeconds = 0;          ///< remaining steps / stepsPerSecond
-  double meanReward = 0;          ///< mean unscaled reward per environment step in this iteration
+  int64_t iteration = 0;        ///< completed iterations
+  int64_t totalIterations = 0;  ///< iterations the run will take
+  int64_t envSteps = 0;         ///< environment steps so far
+  int64_t totalSteps = 0;       ///< the run's budget
+  double stepsPerSecond = 0;    ///< environment steps per wall second, averaged over this process's iterations
+  double etaSeconds = 0;        ///< remaining steps / stepsPerSecond
+  double meanReward = 0;        ///< mean unscaled reward per environment step in this iteration
   double meanEpisodeReturn = std::numeric_limits<double>::quiet_NaN();  ///< over episodes ended in this iteration
   double meanEpisodeLength = std::numeric_limits<double>::quiet_NaN();  ///< steps, same episodes
   double evalScore = std::numeric_limits<double>::quiet_NaN();          ///< this iteration's evaluation (NaN: none)
-  PpoStats stats;                 ///< the update's losses and diagnostics
-  std::string curriculumNote;     ///< the environment's curriculum state ("" when it has none)
+  PpoStats stats;                                                       ///< the update's losses and diagnostics
+  std::string curriculumNote;  ///< the environment's curriculum state ("" when it has none)
 };
 
 struct TrainerOptions {

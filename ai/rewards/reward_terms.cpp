@@ -41,7 +41,8 @@ double yawRate(const RewardContext& c) { return 1.0 - 2.0 * std::abs(c.sensors->
 // legged_gym-style kernels: in (0, 1], smooth, never negative, so the step's clip at 0 never hides them
 double velocityExp(const RewardContext& c) {
   const Eigen::Vector3d& v = c.sensors->linearVelocity;
-  const double e2 = (v.x() - c.command->vx) * (v.x() - c.command->vx) + (v.y() - c.command->vy) * (v.y() - c.command->vy);
+  const double e2 =
+      (v.x() - c.command->vx) * (v.x() - c.command->vx) + (v.y() - c.command->vy) * (v.y() - c.command->vy);
   return std::exp(-e2 / 0.5);
 }
 double yawRateExp(const RewardContext& c) {
@@ -139,7 +140,8 @@ double sideLevel(const RewardContext& c) { return -0.05 * std::abs(robot::sideLe
 // the stand-up: the way from lying (pelvis on the ground) up to standing, the trunk coming upright, and
 // standing as the card and the runtime's hand-over to the walk count it (robot::hasStoodUp)
 double standHeight(const RewardContext& c) {
-  return std::clamp((c.sensors->basePosition.z() - kPronePelvisHeight) / (robot::kStoodPelvisHeight - kPronePelvisHeight), 0.0, 1.0);
+  return std::clamp(
+      (c.sensors->basePosition.z() - kPronePelvisHeight) / (robot::kStoodPelvisHeight - kPronePelvisHeight), 0.0, 1.0);
 }
 double upright(const RewardContext& c) { return std::max(0.0, std::cos(c.sensors->tilt)); }
 double stood(const RewardContext& c) { return robot::hasStoodUp(*c.sensors) ? 1.0 : 0.0; }
@@ -191,7 +193,8 @@ double pushUpHeight(const RewardContext& c) {
   const double u = c.phaseTick < p.cycleStartTick
                        ? 0.0
                        : double(c.phaseTick - p.cycleStartTick) / double(p.cycleTicks - p.cycleStartTick);
-  const double target = kPushUpPelvisLow + (kPushUpPelvisHigh - kPushUpPelvisLow) * 0.5 * (1.0 - std::cos(2.0 * M_PI * u));
+  const double target =
+      kPushUpPelvisLow + (kPushUpPelvisHigh - kPushUpPelvisLow) * 0.5 * (1.0 - std::cos(2.0 * M_PI * u));
   const double e = (c.sensors->basePosition.z() - target) / 0.05;
   return std::exp(-e * e);
 }
@@ -215,25 +218,49 @@ const std::vector<RewardTerm>& rewardTermTable() {
       {"air_time", &airTime, "1 while neither foot touches the ground"},
       {"ball_speed", &ballSpeed, "min(3.5, max(0, v_ball . target)) / 2.5 m/s"},
       {"ball_straight", &ballStraight, "-|v_ball x target| (sideways ball speed)"},
-      {"stand_still", &standStill, "-|v_xy| while the command is zero (pelvis frame; stepping in place must not drift)"},
-      {"hold_position", &holdPosition, "-|p_xy - anchor| while the command is zero (anchor: the pelvis when the zero command began or the last push came)"},
+      {"stand_still", &standStill,
+       "-|v_xy| while the command is zero (pelvis frame; stepping in place must not drift)"},
+      {"hold_position", &holdPosition,
+       "-|p_xy - anchor| while the command is zero (anchor: the pelvis when the zero command began or the last push "
+       "came)"},
       {"prone_pitch", &pronePitch, "exp(-((pitch_forward - 90 deg) / 25 deg)^2): face down (robot::forwardPitch)"},
       {"prone_height", &proneHeight, "exp(-(max(0, h - 0.12 m) / 0.15 m)^2): the pelvis down on the ground"},
       {"side_level", &sideLevel, "-0.05 |side lean_deg| (robot::sideLean: not rolled onto a side)"},
       {"stand_height", &standHeight, "clamp((h - 0.12 m) / (0.70 m - 0.12 m), 0, 1): from lying up to standing"},
       {"upright", &upright, "max(0, cos tilt): the pelvis upright"},
-      {"crawl_velocity", &crawlVelocity, "exp(-((v_f - vx_cmd)^2 + (v_s - vy_cmd)^2) / 0.05), world velocity along / across the way the head points (pelvis z on the ground; pelvis x when upright)"},
-      {"crawl_line", &crawlLine, "exp(-d^2 / 0.1), d: the pelvis's offset across the line the episode began on (start and heading after the handover)"},
-      {"heading_hold", &headingHold, "exp(-e^2 / 0.04), e: the heading's angle from the one the episode began with, turned by the commanded yaw rate since (robot::groundHeading)"},
-      {"line_turn", &lineTurn, "exp(-(w_s - w*)^2 / 0.01), w_s: the world yaw rate low-passed over 1 s, w* = -(1 aux0 + 0.5 aux1) within +-0.2 rad/s: turning back toward the line the episode began on (aux as line_command shows it)"},
-      {"heading_rate", &headingRate, "exp(-(wz_world - wz_cmd)^2 / 0.02): turning about the vertical, whatever the posture (0.1 rad/s: 0.61)"},
-      {"pushup_height", &pushUpHeight, "exp(-((h - h_cycle) / 0.05 m)^2), h_cycle = 0.11 m + 0.10 m (1 - cos 2 pi u) / 2 through the repeating prior's cycle u"},
-      {"feet_down", &feetDown, "1 while both feet touch the ground (a kick that ends standing on both feet, not stepping: the switch out of it waits for a settled stand)"},
-      {"foot_edge", &footEdge, "-(number of feet on the ground whose toe and heel have ground under them more than 0.02 m apart: across a step's edge)"},
+      {"crawl_velocity", &crawlVelocity,
+       "exp(-((v_f - vx_cmd)^2 + (v_s - vy_cmd)^2) / 0.05), world velocity along / across the way the head points "
+       "(pelvis z on the ground; pelvis x when upright)"},
+      {"crawl_line", &crawlLine,
+       "exp(-d^2 / 0.1), d: the pelvis's offset across the line the episode began on (start and heading after the "
+       "handover)"},
+      {"heading_hold", &headingHold,
+       "exp(-e^2 / 0.04), e: the heading's angle from the one the episode began with, turned by the commanded yaw rate "
+       "since (robot::groundHeading)"},
+      {"line_turn", &lineTurn,
+       "exp(-(w_s - w*)^2 / 0.01), w_s: the world yaw rate low-passed over 1 s, w* = -(1 aux0 + 0.5 aux1) within +-0.2 "
+       "rad/s: turning back toward the line the episode began on (aux as line_command shows it)"},
+      {"heading_rate", &headingRate,
+       "exp(-(wz_world - wz_cmd)^2 / 0.02): turning about the vertical, whatever the posture (0.1 rad/s: 0.61)"},
+      {"pushup_height", &pushUpHeight,
+       "exp(-((h - h_cycle) / 0.05 m)^2), h_cycle = 0.11 m + 0.10 m (1 - cos 2 pi u) / 2 through the repeating prior's "
+       "cycle u"},
+      {"feet_down", &feetDown,
+       "1 while both feet touch the ground (a kick that ends standing on both feet, not stepping: the switch out of it "
+       "waits for a settled stand)"},
+      {"foot_edge", &footEdge,
+       "-(number of feet on the ground whose toe and heel have ground under them more than 0.02 m apart: across a "
+       "step's edge)"},
       {"stood", &stood, "1 while standing: pelvis >= 0.70 m and tilt < 10 deg (robot::hasStoodUp)"},
-      {"foot_clear", &footClear, "clamp(h_right_sole / (0.12 m lift), 0, 1); 1 when no lift is asked, 0 while the right foot touches the ground (lift as for foot_lift)"},
-      {"weight_centred", &weightCentred, "1 - (1 - w)(1 - exp(-(d / 0.05 m)^2)), d: the centre of mass's sideways offset (pelvis heading) from the feet's midpoint, w: a two-stage pose's first-stage weight (0 otherwise)"},
-      {"foot_lift", &footLift, "exp(-((h_right_sole - 0.12 m lift) / 0.04 m)^2), lift = amplitude or a two-stage pose's late weight; 0 while the right foot touches the ground"},
+      {"foot_clear", &footClear,
+       "clamp(h_right_sole / (0.12 m lift), 0, 1); 1 when no lift is asked, 0 while the right foot touches the ground "
+       "(lift as for foot_lift)"},
+      {"weight_centred", &weightCentred,
+       "1 - (1 - w)(1 - exp(-(d / 0.05 m)^2)), d: the centre of mass's sideways offset (pelvis heading) from the "
+       "feet's midpoint, w: a two-stage pose's first-stage weight (0 otherwise)"},
+      {"foot_lift", &footLift,
+       "exp(-((h_right_sole - 0.12 m lift) / 0.04 m)^2), lift = amplitude or a two-stage pose's late weight; 0 while "
+       "the right foot touches the ground"},
   };
   return kTable;
 }
@@ -247,8 +274,9 @@ std::vector<WeightedTerm> resolveRewardTerms(const SkillSpec& skill, const std::
     if (!found) {
       std::string known;
       for (const RewardTerm& t : rewardTermTable()) known += std::string(known.empty() ? "" : ", ") + t.name;
-      throw engine::Error(engine::located(treePath, skill.rewardLines.at(name),
-                                          "skill." + skill.name + ": unknown reward term '" + name + "' (known: " + known + ")"));
+      throw engine::Error(
+          engine::located(treePath, skill.rewardLines.at(name),
+                          "skill." + skill.name + ": unknown reward term '" + name + "' (known: " + known + ")"));
     }
     out.push_back({found, weight});
   }

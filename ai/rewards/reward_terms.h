@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "ai/tree/training_tree.h"
 #include "engine/physics/physics_world.h"
 #include "robot/skill_layout.h"
-#include "ai/tree/training_tree.h"
 
 namespace ai {
 
@@ -18,8 +18,8 @@ struct RewardContext {
   const robot::SkillCommand* command = nullptr;
   const std::array<float, robot::kActionSize>* action = nullptr;          ///< clipped policy output this tick
   const std::array<float, robot::kActionSize>* previousAction = nullptr;  ///< the tick before
-  const SkillSpec* skill = nullptr;                                  ///< the skill being trained
-  const engine::BallState* ball = nullptr;  ///< the kick's ball, if the skill has one
+  const SkillSpec* skill = nullptr;                                       ///< the skill being trained
+  const engine::BallState* ball = nullptr;                                ///< the kick's ball, if the skill has one
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();  ///< where the ball should go (world unit vector)
   /// where the pelvis was (world x, y) when the current zero command began or the last push ended; nullptr while
   /// the command is not zero or the environment does not track it

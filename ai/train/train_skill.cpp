@@ -69,10 +69,13 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     config.learningRate = config.branchLearningRate;
   }
   if (o.zeroOutput && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
-    throw engine::Error("--zero-output is a branch's initialisation from its parent: not with --resume, --init-from or for the root skill");
+    throw engine::Error(
+        "--zero-output is a branch's initialisation from its parent: not with --resume, --init-from or for the root "
+        "skill");
   if (!std::isnan(o.initLogStd) && (o.resume || (o.initFrom.empty() && skill.parent.empty())))
-    throw engine::Error("--init-log-std sets the starting noise of a branch (from its parent) or of a fine-tune (--init-from): "
-                        "not with --resume or for the root skill trained afresh");
+    throw engine::Error(
+        "--init-log-std sets the starting noise of a branch (from its parent) or of a fine-tune (--init-from): "
+        "not with --resume or for the root skill trained afresh");
   const int64_t steps = o.steps > 0 ? o.steps : skill.trainingSteps;
   const int envs = o.envs > 0 ? o.envs : skill.trainingEnvs;
   const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
@@ -80,7 +83,8 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   // exported model goes into the run folder, never into the shipped models (`treelearn ship` installs it)
   const std::string modelsDir = o.modelsDir.empty() ? l.tree.directory : o.modelsDir;
   if (config.bufferSize % envs != 0)
-    throw engine::Error("--envs " + std::to_string(envs) + " must divide the PPO buffer size " + std::to_string(config.bufferSize));
+    throw engine::Error("--envs " + std::to_string(envs) + " must divide the PPO buffer size " +
+                        std::to_string(config.bufferSize));
 
   SkillEnvOptions envOptions;
   envOptions.numEnvs = envs;
@@ -90,25 +94,28 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     const SkillSpec* parent = l.tree.find(skill.handoverFrom.empty() ? skill.parent : skill.handoverFrom);
     const std::string path = modelsDir + "/" + parent->model;
     if (!std::filesystem::exists(path))
-      throw engine::Error(path + ": the parent skill '" + parent->name + "' has no model yet (handover episodes start under it): train " +
-                          parent->name + " first");
+      throw engine::Error(path + ": the parent skill '" + parent->name +
+                          "' has no model yet (handover episodes start under it): train " + parent->name + " first");
     handoverPolicy = std::make_shared<LoadedPolicy>(loadPolicyOnnx(path));
     envOptions.parent = parent;
-    envOptions.parentPolicy = [handoverPolicy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { handoverPolicy->act(obs, act); };
+    envOptions.parentPolicy = [handoverPolicy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) {
+      handoverPolicy->act(obs, act);
+    };
     say(log, "handover episodes: %.0f %% start under '%s' (%s) for %.1f-%.1f s\n", 100 * skill.handover,
-                parent->name.c_str(), path.c_str(), skill.handoverSeconds.lo, skill.handoverSeconds.hi);
+        parent->name.c_str(), path.c_str(), skill.handoverSeconds.lo, skill.handoverSeconds.hi);
     // the skills between handover_from and this one, which a routed request passes through in play
     const std::vector<const SkillSpec*> route = handoverRoute(l.tree, skill);
     for (auto it = route.begin() + 1; it != route.end(); ++it) {
       const SkillSpec* v = *it;
       const std::string vpath = modelsDir + "/" + v->model;
       if (!std::filesystem::exists(vpath))
-        throw engine::Error(vpath + ": the skill '" + v->name + "' has no model yet (handover episodes route through it): train " +
-                            v->name + " first");
+        throw engine::Error(vpath + ": the skill '" + v->name +
+                            "' has no model yet (handover episodes route through it): train " + v->name + " first");
       auto policy = std::make_shared<LoadedPolicy>(loadPolicyOnnx(vpath));
-      envOptions.via.push_back({v, [policy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); }});
+      envOptions.via.push_back(
+          {v, [policy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { policy->act(obs, act); }});
       say(log, "  then '%s' (%s) for %.1f-%.1f s at a zero command\n", v->name.c_str(), vpath.c_str(),
-                  skill.handoverViaSeconds.lo, skill.handoverViaSeconds.hi);
+          skill.handoverViaSeconds.lo, skill.handoverViaSeconds.hi);
     }
   }
   std::shared_ptr<LoadedPolicy> backPolicy;
@@ -116,13 +123,15 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     const SkillSpec* child = l.tree.find(skill.handoverBackFrom);
     const std::string path = modelsDir + "/" + child->model;
     if (!std::filesystem::exists(path))
-      throw engine::Error(path + ": the skill '" + child->name + "' has no model yet (handover_back episodes start under it): train " +
-                          child->name + " first, or set handover_back = 0");
+      throw engine::Error(path + ": the skill '" + child->name +
+                          "' has no model yet (handover_back episodes start under it): train " + child->name +
+                          " first, or set handover_back = 0");
     backPolicy = std::make_shared<LoadedPolicy>(loadPolicyOnnx(path));
-    envOptions.back = {child, [backPolicy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { backPolicy->act(obs, act); }};
+    envOptions.back = {child,
+                       [backPolicy](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { backPolicy->act(obs, act); }};
     say(log, "handover episodes back up the tree: %.0f %% start under '%s' (%s) for %.1f-%.1f s, then switch to '%s'\n",
-                100 * skill.handoverBack, child->name.c_str(), path.c_str(), skill.handoverBackSeconds.lo,
-                skill.handoverBackSeconds.hi, skill.name.c_str());
+        100 * skill.handoverBack, child->name.c_str(), path.c_str(), skill.handoverBackSeconds.lo,
+        skill.handoverBackSeconds.hi, skill.name.c_str());
   }
   SkillEnv env(l.model, skill, l.tree.path, envOptions);
   TrainerOptions options;
@@ -171,11 +180,14 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     ++iterationsRun;
     char episodes[96] = "no episode ended";  // long episodes can outlast an iteration's rollout
     if (!std::isnan(p.meanEpisodeReturn))
-      std::snprintf(episodes, sizeof episodes, "episode return %.1f  length %.0f", p.meanEpisodeReturn, p.meanEpisodeLength);
-    say(log, "iter %lld/%lld  steps %lld  %.0f steps/s  ETA %.0f min  reward/step %.3f  %s  kl %.4f  clip %.3f  ev %.2f  lr %.2g\n",
-                (long long)p.iteration, (long long)p.totalIterations, (long long)p.envSteps, p.stepsPerSecond,
-                p.etaSeconds / 60.0, p.meanReward, episodes, p.stats.approxKl, p.stats.clipFraction,
-                p.stats.explainedVariance, p.stats.learningRate);
+      std::snprintf(episodes, sizeof episodes, "episode return %.1f  length %.0f", p.meanEpisodeReturn,
+                    p.meanEpisodeLength);
+    say(log,
+        "iter %lld/%lld  steps %lld  %.0f steps/s  ETA %.0f min  reward/step %.3f  %s  kl %.4f  clip %.3f  ev %.2f  lr "
+        "%.2g\n",
+        (long long)p.iteration, (long long)p.totalIterations, (long long)p.envSteps, p.stepsPerSecond,
+        p.etaSeconds / 60.0, p.meanReward, episodes, p.stats.approxKl, p.stats.clipFraction, p.stats.explainedVariance,
+        p.stats.learningRate);
     if (!p.curriculumNote.empty()) say(log, "  %s\n", p.curriculumNote.c_str());
   };
 
@@ -186,7 +198,7 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     if (!std::isnan(o.initLogStd)) state.logStd.setConstant(float(o.initLogStd));  // e.g. less noise to polish with
     trainer.initialiseFrom(state, float(o.reinflateLogStd), /*fineTune=*/true);
     say(log, "initialised from %s (fine-tuning: fresh optimiser and schedules, the normaliser's statistics kept)%s\n",
-                o.initFrom.c_str(), std::isnan(o.initLogStd) ? "" : ", log-std set");
+        o.initFrom.c_str(), std::isnan(o.initLogStd) ? "" : ", log-std set");
   } else if (!o.resume && !skill.parent.empty()) {
     const SkillSpec* parent = l.tree.find(skill.parent);
     const std::string parentPolicy = modelsDir + "/" + parent->name + ".policy.bin";
@@ -202,13 +214,16 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
         config.learningRate, std::isnan(o.learningRate) ? " ([ppo] branch_learning_rate)" : " (--learning-rate)");
   }
   say(log, "training %s: %lld steps, %d envs on %d threads, seed %llu, run folder %s\n", skill.name.c_str(),
-              (long long)steps, envs, o.threads, (unsigned long long)o.seed, runDir.c_str());
+      (long long)steps, envs, o.threads, (unsigned long long)o.seed, runDir.c_str());
   if (onTrainer) onTrainer(&trainer);
   trainer.run();
   if (onTrainer) onTrainer(nullptr);
-  if (trainer.stoppedEarly()) {  // a stop request: the checkpoint goes on with --resume; a half-trained run exports nothing
-    say(log, "stopped at iteration %lld (%lld env steps): checkpoint %s/checkpoint.bin, go on with --resume; nothing "
-        "exported\n", (long long)trainer.iteration(), (long long)trainer.envSteps(), runDir.c_str());
+  if (trainer.stoppedEarly()) {  // a stop request: the checkpoint goes on with --resume; a half-trained run exports
+                                 // nothing
+    say(log,
+        "stopped at iteration %lld (%lld env steps): checkpoint %s/checkpoint.bin, go on with --resume; nothing "
+        "exported\n",
+        (long long)trainer.iteration(), (long long)trainer.envSteps(), runDir.c_str());
     return {runDir, iterationsRun, trainer.iteration(), trainer.envSteps(), steps, true};
   }
 
@@ -249,10 +264,12 @@ void exportToRun(const SkillContext& l, const std::string& runDir, const PolicyS
   char score[64] = "no card score";
   if (!std::isnan(info.score)) std::snprintf(score, sizeof score, "card score %.3f", info.score);
   say(log, "exported %s and %s (%s: iteration %lld, %lld env steps, %s)\n", onnxPath.c_str(), policyPath.c_str(),
-              source.c_str(), (long long)info.iteration, (long long)info.envSteps, score);
-  const std::string tree = l.tree.path == engine::projectFile("assets/skills/tree.toml") ? "" : "--tree " + l.tree.path + " ";
-  say(log, "the shipped model in %s is unchanged; to install this one once its card passes: treelearn %sship %s --from %s\n",
-              l.tree.directory.c_str(), tree.c_str(), l.skill->name.c_str(), runDir.c_str());
+      source.c_str(), (long long)info.iteration, (long long)info.envSteps, score);
+  const std::string tree =
+      l.tree.path == engine::projectFile("assets/skills/tree.toml") ? "" : "--tree " + l.tree.path + " ";
+  say(log,
+      "the shipped model in %s is unchanged; to install this one once its card passes: treelearn %sship %s --from %s\n",
+      l.tree.directory.c_str(), tree.c_str(), l.skill->name.c_str(), runDir.c_str());
 }
 
 void exportFromRun(const SkillContext& l, const std::string& runDir, const std::string& exportFrom, uint64_t seed,

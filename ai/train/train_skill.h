@@ -18,10 +18,10 @@ namespace ai {
 using Log = std::function<void(const std::string& line)>;
 
 struct TrainSkillOptions {
-  int64_t steps = 0;      ///< 0 = the skill's budget from the tree file
+  int64_t steps = 0;  ///< 0 = the skill's budget from the tree file
   bool resume = false;
   int threads = 2;
-  int envs = 0;           ///< 0 = the skill's setting
+  int envs = 0;  ///< 0 = the skill's setting
   uint64_t seed = 1;
   std::string runDir;     ///< default runs/SKILL
   int evalEvery = 10;     ///< iterations between report-card evaluations (0 = never)
@@ -30,11 +30,11 @@ struct TrainSkillOptions {
   /// that score decides the best policy (0: the evalEpisodes card alone, always on the same episodes)
   int evalConfirm = 0;
   double reinflateLogStd = std::nan("");  ///< branch init: raise the log-std to at least this
-  double initLogStd = std::nan("");  ///< branch init: set every log-std entry to this (less or more exploration)
-  bool freezeNormalizer = false;  ///< keep the loaded observation statistics
-  int criticWarmup = 0;  ///< iterations that update the critic only (a branch's inherited critic learns first)
+  double initLogStd = std::nan("");       ///< branch init: set every log-std entry to this (less or more exploration)
+  bool freezeNormalizer = false;          ///< keep the loaded observation statistics
+  int criticWarmup = 0;     ///< iterations that update the critic only (a branch's inherited critic learns first)
   bool zeroOutput = false;  ///< branch init: the actor's output layer starts at zero (the branch begins as its prior)
-  std::string initFrom;   ///< start from this policy file (PolicyState) instead of fresh weights or the parent
+  std::string initFrom;     ///< start from this policy file (PolicyState) instead of fresh weights or the parent
   double learningRate = std::nan("");  ///< override of the [ppo] initial learning rate (fine-tuning)
   /// where the other skills' models are read from (the parent's policy, handover and card drivers; default: the
   /// tree file's folder). The run's own model is written into runDir, never here.
@@ -43,7 +43,7 @@ struct TrainSkillOptions {
 
 struct TrainSkillResult {
   std::string runDir;
-  int64_t iterationsRun = 0;  ///< in this call (a resumed run at or past its steps runs none)
+  int64_t iterationsRun = 0;            ///< in this call (a resumed run at or past its steps runs none)
   int64_t iteration = 0, envSteps = 0;  ///< where the run stands now
   int64_t steps = 0;                    ///< the steps it was asked to reach
   bool stopped = false;                 ///< stopped on request before its steps: checkpointed, nothing exported

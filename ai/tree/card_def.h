@@ -18,24 +18,24 @@ using robot::Range;
 /// Randomised episodes in which the card drives the skill with commands (velocity, height, balance, stairs, jump, kick
 /// and prone cards), the tracking bars and the standing episodes.
 struct DrivenCard {
-  double episodeSeconds = 20;   ///< each episode's length
-  double segmentSeconds = 20;   ///< a new command this often (default: once per episode)
-  double settleSeconds = 1;     ///< tracking is not counted this long after a command change
-  Range vx, vy, wz;             ///< command ranges
-  Range amplitude;              ///< amplitude command range (drawn with every command)
+  double episodeSeconds = 20;                     ///< each episode's length
+  double segmentSeconds = 20;                     ///< a new command this often (default: once per episode)
+  double settleSeconds = 1;                       ///< tracking is not counted this long after a command change
+  Range vx, vy, wz;                               ///< command ranges
+  Range amplitude;                                ///< amplitude command range (drawn with every command)
   std::array<double, 4> mix{0.4, 0.2, 0.2, 0.2};  ///< chance of a forward, sideways, turn or zero command
-  bool pushes = true;           ///< pushes as in the skill's randomisation
+  bool pushes = true;                             ///< pushes as in the skill's randomisation
   /// the card's own push strength [m/s] (lo < 0: the randomisation's), so that training can push harder without
   /// changing the card
   Range pushSpeed{-1, -1};
   double pushEverySeconds = -1;  ///< the card's own push interval [s] (< 0: the randomisation's), likewise
-  bool ramp = false;            ///< commands ramp at the keyboard's rates (ai::CommandDraws::ramp)
-  int standEpisodes = 0;        ///< zero-command episodes without pushes (drift)
+  bool ramp = false;             ///< commands ramp at the keyboard's rates (ai::CommandDraws::ramp)
+  int standEpisodes = 0;         ///< zero-command episodes without pushes (drift)
   double standSeconds = 10;
-  double noFallPercent = -1;    ///< bar: episodes without a fall [%] (>=)
-  double speedError = -1;       ///< bar: mean |v - v_cmd| [m/s] (<=)
-  double yawError = -1;         ///< bar: mean |wz - wz_cmd| [rad/s] (<=)
-  double standDrift = -1;       ///< bar: max drift of a standing episode [m] (<)
+  double noFallPercent = -1;  ///< bar: episodes without a fall [%] (>=)
+  double speedError = -1;     ///< bar: mean |v - v_cmd| [m/s] (<=)
+  double yawError = -1;       ///< bar: mean |wz - wz_cmd| [rad/s] (<=)
+  double standDrift = -1;     ///< bar: max drift of a standing episode [m] (<)
   /// each episode starts as the skill's training handover episodes do (from training.handover_from or the parent,
   /// through the skills in between), that is as play enters the skill, rather than from the spawn stance; a lead-in
   /// that falls is drawn again (up to 5 times, then the episode counts as a fall). A branch's velocity, height,
@@ -87,8 +87,8 @@ struct KickCard : DrivenCard {
 /// still so at the end of the episode, without a fall; the peak pelvis acceleration (the impact) is reported.
 struct ProneCard : DrivenCard {
   double seconds = 3;
-  double height = 0.35;    ///< [m]
-  Range pitch{70, 110};    ///< [deg]
+  double height = 0.35;  ///< [m]
+  Range pitch{70, 110};  ///< [deg]
 };
 
 /// Lies down under the parent, then the switch to this skill as the runtime makes it; success = standing
@@ -144,18 +144,26 @@ struct CardDef {
   }
   /// The driven part of a velocity, height, balance, stairs, jump, kick or prone card; nullptr for the other kinds.
   const DrivenCard* driven() const {
-    return std::visit([](const auto& c) -> const DrivenCard* {
-      if constexpr (std::is_base_of_v<DrivenCard, std::decay_t<decltype(c)>>) return &c;
-      else return nullptr;
-    }, card);
+    return std::visit(
+        [](const auto& c) -> const DrivenCard* {
+          if constexpr (std::is_base_of_v<DrivenCard, std::decay_t<decltype(c)>>)
+            return &c;
+          else
+            return nullptr;
+        },
+        card);
   }
   DrivenCard* driven() { return const_cast<DrivenCard*>(std::as_const(*this).driven()); }
   /// The lying part of a standup, push-up or crawl card; nullptr for the other kinds.
   const LyingCard* lying() const {
-    return std::visit([](const auto& c) -> const LyingCard* {
-      if constexpr (std::is_base_of_v<LyingCard, std::decay_t<decltype(c)>>) return &c;
-      else return nullptr;
-    }, card);
+    return std::visit(
+        [](const auto& c) -> const LyingCard* {
+          if constexpr (std::is_base_of_v<LyingCard, std::decay_t<decltype(c)>>)
+            return &c;
+          else
+            return nullptr;
+        },
+        card);
   }
 };
 

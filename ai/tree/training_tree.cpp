@@ -23,8 +23,9 @@ using robot::turnsBothWays;
 // [skill.NAME.draws]: how training draws the commands
 void parseDraws(const TreeReader& r, const toml::table& c, const std::string& where, CommandDraws* d) {
   const std::string w = where + ".draws";
-  r.onlyKeys(c, {"zero_probability", "resample_s", "resample_jitter", "ramp", "steer", "turn_in_place", "amplitude_zero",
-                 "amplitude_rate"},
+  r.onlyKeys(c,
+             {"zero_probability", "resample_s", "resample_jitter", "ramp", "steer", "turn_in_place", "amplitude_zero",
+              "amplitude_rate"},
              w);
   d->zeroProbability = r.number(c, "zero_probability", 0.2, 0, 1, w);
   d->resampleSeconds = r.number(c, "resample_s", 5, 0.1, 1000, w);
@@ -58,22 +59,26 @@ void parseRandomisation(const TreeReader& r, const toml::table& d, const std::st
 void parseTrainingSteers(const TreeReader& r, const toml::table& tr, const std::string& where, SkillSpec* s) {
   if (const toml::node* lj = tr.get("line_jitter")) {
     if (!s->commands.lineCommand)
-      throw Error(located(r.file, r.line(*lj), where + ".training.line_jitter moves the line a skill sees, and it sees none "
-                                                     "([commands] line_command = true)"));
+      throw Error(located(r.file, r.line(*lj),
+                          where + ".training.line_jitter moves the line a skill sees, and it sees none "
+                                  "([commands] line_command = true)"));
     const std::array<double, 2> j = r.pair(tr, "line_jitter", {0.0, 0.0}, 0.0, 2.0, where + ".training");
     s->lineJitterHeading = j[0], s->lineJitterOffset = j[1];
   }
   s->headingSteer = r.number(tr, "heading_steer", 0, 0, 100, where + ".training");
   if (s->headingSteer > 0 && !turnsBothWays(s->commands))
-    throw Error(located(r.file, r.line(*tr.get("heading_steer")), where + ".training.heading_steer steers with wz, and the "
-                                                                         "skill's commands need a wz range either side of 0 (wz = [-x, x])"));
+    throw Error(located(r.file, r.line(*tr.get("heading_steer")),
+                        where + ".training.heading_steer steers with wz, and the "
+                                "skill's commands need a wz range either side of 0 (wz = [-x, x])"));
   s->headingSteerShare = r.number(tr, "heading_steer_share", 1.0, 0.0, 1.0, where + ".training");
   if (tr.contains("heading_steer_share") && s->headingSteer <= 0)
-    throw Error(located(r.file, r.line(*tr.get("heading_steer_share")), where + ".training.heading_steer_share is the share of "
-                                                                               "episodes heading_steer steers; set heading_steer too"));
+    throw Error(located(r.file, r.line(*tr.get("heading_steer_share")),
+                        where + ".training.heading_steer_share is the share of "
+                                "episodes heading_steer steers; set heading_steer too"));
   if (s->headingSteer > 0 && s->commands.lineSteer > 0)
-    throw Error(located(r.file, r.line(*tr.get("heading_steer")), where + ".training: heading_steer and [commands] line_steer "
-                                                                         "both set the yaw-rate command; choose one"));
+    throw Error(located(r.file, r.line(*tr.get("heading_steer")),
+                        where + ".training: heading_steer and [commands] line_steer "
+                                "both set the yaw-rate command; choose one"));
 }
 
 // [skill.NAME.training] handover_back, handover_back_s and handover_back_from: episodes that start under a child
@@ -87,17 +92,22 @@ void parseHandoverBack(const TreeReader& r, const toml::table& tr, const std::st
     s->handoverBackFrom = *name;
   }
   if (s->handover + s->handoverBack > 1.0)
-    throw Error(located(r.file, r.line(*tr.get("handover_back")), where + ".training.handover + handover_back must be at most 1 "
-                                                                         "(they are shares of the training episodes)"));
+    throw Error(located(r.file, r.line(*tr.get("handover_back")),
+                        where + ".training.handover + handover_back must be at most 1 "
+                                "(they are shares of the training episodes)"));
   if ((s->handoverBack > 0) != !s->handoverBackFrom.empty())
-    throw Error(located(r.file, r.line(tr), where + ".training: handover_back and handover_back_from go together (the "
-                                                   "share of episodes that start under a child, and which child)"));
+    throw Error(located(r.file, r.line(tr),
+                        where + ".training: handover_back and handover_back_from go together (the "
+                                "share of episodes that start under a child, and which child)"));
 }
 
 // [skill.NAME.training]: the budget and the handover episodes; after [commands] (the steers need its wz range)
 void parseTraining(const TreeReader& r, const toml::table& tr, const std::string& where, SkillSpec* s) {
-  r.onlyKeys(tr, {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s", "handover_vx",
-                  "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "heading_steer", "heading_steer_share"}, where + ".training");
+  r.onlyKeys(tr,
+             {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s",
+              "handover_vx", "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "heading_steer",
+              "heading_steer_share"},
+             where + ".training");
   if (const toml::node* op = tr.get("only_positive_rewards")) {
     auto b = op->value<bool>();
     if (!b) throw Error(located(r.file, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
@@ -115,8 +125,9 @@ void parseTraining(const TreeReader& r, const toml::table& tr, const std::string
     s->handoverFrom = *name;
   }
   if (const toml::node* hv = tr.get("handover_via_s"); hv && (s->handoverFrom.empty() || s->handoverFrom == s->parent))
-    throw Error(located(r.file, r.line(*hv), where + ".training.handover_via_s is the time in the skills between handover_from "
-                                                   "and this one, and there are none (handover_from is the parent)"));
+    throw Error(located(r.file, r.line(*hv),
+                        where + ".training.handover_via_s is the time in the skills between handover_from "
+                                "and this one, and there are none (handover_from is the parent)"));
   if (s->handover > 0 && s->parent.empty())
     throw Error(located(r.file, r.line(*tr.get("handover")), where + ".training.handover needs a parent skill"));
   parseTrainingSteers(r, tr, where, s);
@@ -134,22 +145,31 @@ void parseBall(const TreeReader& r, const toml::table& bt, const std::string& wh
   s->ball.jitter = r.number(bt, "jitter", 0.03, 0, 1, w);
   s->ball.absent = r.number(bt, "absent", 0.0, 0, 1, w);
   if (!s->commands.ballCommand)
-    throw Error(located(r.file, r.line(bt), w + ": a ball skill sees its ball in the aux command slots: it needs "
-                                               "[commands] ball_command = true"));
+    throw Error(located(r.file, r.line(bt),
+                        w + ": a ball skill sees its ball in the aux command slots: it needs "
+                            "[commands] ball_command = true"));
 }
 
 // [skill.NAME.terrain]; after [training] (a ceiling needs handover = 1)
 void parseTerrain(const TreeReader& r, const toml::table& tt, const std::string& where, SkillSpec* s) {
   const std::string w = where + ".terrain";
-  r.onlyKeys(tt, {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at", "height", "spawn_along"}, w);
-  const std::string type = tt.get("type") && tt.get("type")->value<std::string>() ? *tt.get("type")->value<std::string>() : "";
+  r.onlyKeys(tt,
+             {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at", "height",
+              "spawn_along"},
+             w);
+  const std::string type =
+      tt.get("type") && tt.get("type")->value<std::string>() ? *tt.get("type")->value<std::string>() : "";
   if (type != "stairs" && type != "flat" && type != "ceiling")
     throw Error(located(r.file, r.line(tt), w + ".type must be \"stairs\", \"flat\" or \"ceiling\""));
   TerrainDef& d = s->terrain;
-  d.kind = type == "stairs" ? TerrainDef::Kind::Stairs : type == "ceiling" ? TerrainDef::Kind::Ceiling : TerrainDef::Kind::Flat;
+  d.kind = type == "stairs"    ? TerrainDef::Kind::Stairs
+           : type == "ceiling" ? TerrainDef::Kind::Ceiling
+                               : TerrainDef::Kind::Flat;
   d.ceilingHeight = r.number(tt, "height", 0.6, 0.2, 3, w);
   if (d.kind == TerrainDef::Kind::Ceiling && s->handover < 1.0)
-    throw Error(located(r.file, r.line(tt), w + ": a ceiling goes over a robot that has lain down: the skill's training needs handover = 1.0"));
+    throw Error(
+        located(r.file, r.line(tt),
+                w + ": a ceiling goes over a robot that has lain down: the skill's training needs handover = 1.0"));
   d.steps = int(r.number(tt, "steps", 10, 1, 100, w));
   d.stepDepth = r.number(tt, "step_depth", 0.3, 0.1, 2, w);
   d.startX = r.number(tt, "start_x", 1.0, 0, 20, w);
@@ -158,19 +178,22 @@ void parseTerrain(const TreeReader& r, const toml::table& tt, const std::string&
   d.advanceAt = r.number(tt, "advance_at", 1.0, -1e3, 1e3, w);
   if (const toml::node* l = tt.get("lessons")) {
     const toml::array* a = l->as_array();
-    if (!a || a->empty()) throw Error(located(r.file, r.line(*l), w + ".lessons must be a non-empty list of step heights"));
+    if (!a || a->empty())
+      throw Error(located(r.file, r.line(*l), w + ".lessons must be a non-empty list of step heights"));
     for (const toml::node& h : *a) d.lessons.push_back(r.number(h, w + ".lessons", 0, 0.5));
   }
   d.spawnAlong = r.number(tt, "spawn_along", 0.0, 0.0, 1.0, w);
   if (d.spawnAlong > 0 && d.kind != TerrainDef::Kind::Stairs)
-    throw Error(located(r.file, r.line(*tt.get("spawn_along")), w + ".spawn_along starts episodes on a staircase's treads: it needs type = \"stairs\""));
+    throw Error(located(r.file, r.line(*tt.get("spawn_along")),
+                        w + ".spawn_along starts episodes on a staircase's treads: it needs type = \"stairs\""));
   if (d.kind == TerrainDef::Kind::Stairs && d.lessons.empty())
     throw Error(located(r.file, r.line(tt), w + ": stairs need lessons = [step heights]"));
 }
 
 // A command curriculum's last lesson is what the skill ships with: it must be the tree entry's own command range and
 // prior. t1 are the T1 lessons as written; errors at the table's line.
-void checkCurriculumEnds(const TreeReader& r, int line, const std::string& w, const std::vector<double>& t1, const SkillSpec& s) {
+void checkCurriculumEnds(const TreeReader& r, int line, const std::string& w, const std::vector<double>& t1,
+                         const SkillSpec& s) {
   const CurriculumDef& d = s.curriculum;
   const size_t n = d.lessons();
   if ((!t1.empty() && t1.size() != n) || (!d.stride.empty() && d.stride.size() != n))
@@ -180,20 +203,25 @@ void checkCurriculumEnds(const TreeReader& r, int line, const std::string& w, co
   if ((!t1.empty() || !d.stride.empty()) && s.prior.kind != robot::PriorDef::Kind::Phase)
     throw Error(located(r.file, line, w + ": T1 and stride lessons are for a \"phase\" prior"));
   if (!d.amplitudeMax.empty() && std::abs(d.amplitudeMax.back() - s.commands.amplitude.hi) > 1e-9)
-    throw Error(located(r.file, line, w + ".amplitude_max must end at the commands' amplitude top (" +
-                                          std::to_string(s.commands.amplitude.hi) + ")"));
+    throw Error(located(r.file, line,
+                        w + ".amplitude_max must end at the commands' amplitude top (" +
+                            std::to_string(s.commands.amplitude.hi) + ")"));
   if (!d.vxMax.empty() && std::abs(d.vxMax.back() - s.commands.vx.hi) > 1e-9)
-    throw Error(located(r.file, line, w + ".vx_max must end at the commands' vx top (" + std::to_string(s.commands.vx.hi) + ")"));
+    throw Error(located(r.file, line,
+                        w + ".vx_max must end at the commands' vx top (" + std::to_string(s.commands.vx.hi) + ")"));
   for (double x : d.amplitudeMax)
     if (x < s.commands.amplitude.lo)
-      throw Error(located(r.file, line, w + ".amplitude_max: every lesson's top must be at least the commands' amplitude bottom"));
+      throw Error(located(r.file, line,
+                          w + ".amplitude_max: every lesson's top must be at least the commands' amplitude bottom"));
   for (double x : d.vxMax)
     if (x <= s.commands.vx.lo)
       throw Error(located(r.file, line, w + ".vx_max: every lesson's top must be above the commands' vx bottom"));
   if (!d.halfPeriodTicks.empty() && d.halfPeriodTicks.back() != s.prior.halfPeriodTicks)
-    throw Error(located(r.file, line, w + ".T1 must end at the prior's T1 (" + std::to_string(s.prior.halfPeriodTicks) + ")"));
+    throw Error(
+        located(r.file, line, w + ".T1 must end at the prior's T1 (" + std::to_string(s.prior.halfPeriodTicks) + ")"));
   if (!d.stride.empty() && std::abs(d.stride.back() - s.prior.stride) > 1e-9)
-    throw Error(located(r.file, line, w + ".stride must end at the prior's stride (" + std::to_string(s.prior.stride) + ")"));
+    throw Error(
+        located(r.file, line, w + ".stride must end at the prior's stride (" + std::to_string(s.prior.stride) + ")"));
 }
 
 // [skill.NAME.curriculum]; after [prior], [commands] and [terrain], which its lessons must agree with
@@ -206,7 +234,8 @@ void parseCurriculum(const TreeReader& r, const toml::table& ct, const std::stri
     const toml::node* l = ct.get(key);
     if (!l) return;
     const toml::array* a = l->as_array();
-    if (!a || a->empty()) throw Error(located(r.file, r.line(*l), w + "." + key + " must be a non-empty list of numbers"));
+    if (!a || a->empty())
+      throw Error(located(r.file, r.line(*l), w + "." + key + " must be a non-empty list of numbers"));
     for (const toml::node& x : *a) out->push_back(r.number(x, w + "." + key, lo, hi));
   };
   std::vector<double> t1;
@@ -216,8 +245,9 @@ void parseCurriculum(const TreeReader& r, const toml::table& ct, const std::stri
   list("stride", 0, 1, &d.stride);
   for (double x : t1) d.halfPeriodTicks.push_back(int(std::lround(x)));
   if (d.vxMax.empty() == d.amplitudeMax.empty())
-    throw Error(located(r.file, r.line(ct), w + " needs one of vx_max = [the forward command's top, per lesson] or "
-                                               "amplitude_max = [the amplitude command's top, per lesson]"));
+    throw Error(located(r.file, r.line(ct),
+                        w + " needs one of vx_max = [the forward command's top, per lesson] or "
+                            "amplitude_max = [the amplitude command's top, per lesson]"));
   checkCurriculumEnds(r, r.line(ct), w, t1, *s);
 }
 
@@ -235,8 +265,9 @@ CardDef::Kinds cardOfType(const TreeReader& r, const toml::table& c, const std::
   if (*type == "standup") return StandUpCard{};
   if (*type == "pushup") return PushUpCard{};
   if (*type == "crawl") return CrawlCard{};
-  throw Error(located(r.file, r.line(c), w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\", "
-                                             "\"kick\", \"prone\", \"standup\", \"pushup\" or \"crawl\""));
+  throw Error(located(r.file, r.line(c),
+                      w + ".type must be \"velocity\", \"height\", \"balance\", \"stairs\", \"jump\", "
+                          "\"kick\", \"prone\", \"standup\", \"pushup\" or \"crawl\""));
 }
 
 // The keys a card of each kind reads (assets/skills/README.md lists them)
@@ -250,47 +281,74 @@ std::vector<std::string> cardKeys(CardKind kind) {
     add({"episode_s", "segment_s", "settle_s", "vx", "vy", "wz", "amplitude", "mix", "ramp", "pushes", "push_speed",
          "push_every_s", "stand_episodes", "stand_s", "no_fall_pct", "speed_error", "yaw_error", "stand_drift"});
   switch (kind) {
-    case K::Velocity: add({"lead_in"}); break;
-    case K::Height: add({"height_error", "lead_in"}); break;
-    case K::Balance: add({"lift_height", "lift_s", "success_pct", "lead_in"}); break;
-    case K::Stairs: add({"step_height", "steer", "success_pct"}); break;
-    case K::Jump: add({"jump_height", "jumps", "success_pct", "lead_in"}); break;
-    case K::Kick: add({"kick_speed", "kick_angle_deg", "success_pct", "lead_in"}); break;
-    case K::Prone: add({"prone_s", "prone_height", "prone_pitch_deg", "success_pct"}); break;
-    case K::StandUp: add({"rise_s", "after_s"}); break;
-    case K::PushUp: add({"episode_s", "push_ups", "rise"}); break;
-    case K::Crawl: add({"episode_s", "vx", "crawl_distance", "crawl_speed", "steer"}); break;
-    case K::None: break;
+    case K::Velocity:
+      add({"lead_in"});
+      break;
+    case K::Height:
+      add({"height_error", "lead_in"});
+      break;
+    case K::Balance:
+      add({"lift_height", "lift_s", "success_pct", "lead_in"});
+      break;
+    case K::Stairs:
+      add({"step_height", "steer", "success_pct"});
+      break;
+    case K::Jump:
+      add({"jump_height", "jumps", "success_pct", "lead_in"});
+      break;
+    case K::Kick:
+      add({"kick_speed", "kick_angle_deg", "success_pct", "lead_in"});
+      break;
+    case K::Prone:
+      add({"prone_s", "prone_height", "prone_pitch_deg", "success_pct"});
+      break;
+    case K::StandUp:
+      add({"rise_s", "after_s"});
+      break;
+    case K::PushUp:
+      add({"episode_s", "push_ups", "rise"});
+      break;
+    case K::Crawl:
+      add({"episode_s", "vx", "crawl_distance", "crawl_speed", "steer"});
+      break;
+    case K::None:
+      break;
   }
   return keys;
 }
 
 // Every key of a card is one that its kind reads
-void checkCardKeys(const TreeReader& r, const toml::table& c, const std::string& w, const std::string& type, CardKind kind) {
+void checkCardKeys(const TreeReader& r, const toml::table& c, const std::string& w, const std::string& type,
+                   CardKind kind) {
   const std::vector<std::string> allowed = cardKeys(kind);
   for (auto&& [k, v] : c)
     if (std::find(allowed.begin(), allowed.end(), k.str()) == allowed.end())
-      throw Error(located(r.file, r.line(v), w + "." + std::string(k.str()) + " is not a key of a " + type +
-                                                 " card (assets/skills/README.md lists each type's keys)"));
+      throw Error(located(r.file, r.line(v),
+                          w + "." + std::string(k.str()) + " is not a key of a " + type +
+                              " card (assets/skills/README.md lists each type's keys)"));
 }
 
 // What a card of its kind needs of the skill: a parent that lies it down, an up skill, a tunnel
 void checkCardNeeds(const TreeReader& r, const toml::table& c, const std::string& w, const std::string& type,
                     const SkillSpec& s, CardKind kind) {
   if (kind == CardKind::StandUp && (s.parent.empty() || s.up.empty()))
-    throw Error(located(r.file, r.line(c), w + ": a standup card needs the skill's parent (it lies down first) and its up skill (it takes over)"));
+    throw Error(
+        located(r.file, r.line(c),
+                w + ": a standup card needs the skill's parent (it lies down first) and its up skill (it takes over)"));
   if ((kind == CardKind::PushUp || kind == CardKind::Crawl) && s.parent.empty())
     throw Error(located(r.file, r.line(c), w + ": a " + type + " card needs the skill's parent (it lies down first)"));
   if (kind == CardKind::Crawl && s.terrain.kind != TerrainDef::Kind::Ceiling)
-    throw Error(located(r.file, r.line(c), w + ": a crawl card runs in a tunnel: the skill needs [terrain] type = \"ceiling\""));
+    throw Error(located(r.file, r.line(c),
+                        w + ": a crawl card runs in a tunnel: the skill needs [terrain] type = \"ceiling\""));
 }
 
 // steer (a crawl or stairs card's): the skill's commands must turn both ways to steer with
 double cardSteer(const TreeReader& r, const toml::table& c, const std::string& w, const robot::CommandDef& commands) {
   const double steer = r.number(c, "steer", 0, 0, 100, w);
   if (steer > 0 && !turnsBothWays(commands))
-    throw Error(located(r.file, r.line(*c.get("steer")), w + ".steer: the skill's commands need a wz range either side of "
-                                                             "0 (wz = [-x, x]) to steer with"));
+    throw Error(located(r.file, r.line(*c.get("steer")),
+                        w + ".steer: the skill's commands need a wz range either side of "
+                            "0 (wz = [-x, x]) to steer with"));
   return steer;
 }
 
@@ -306,7 +364,8 @@ void parseDriven(const TreeReader& r, const toml::table& c, const std::string& w
   if (const toml::node* m = c.get("mix")) {
     const toml::array* a = m->as_array();
     double sum = 0;
-    if (!a || a->size() != 4) throw Error(located(r.file, r.line(*m), w + ".mix must be 4 numbers: forward, sideways, turn, zero"));
+    if (!a || a->size() != 4)
+      throw Error(located(r.file, r.line(*m), w + ".mix must be 4 numbers: forward, sideways, turn, zero"));
     for (size_t i = 0; i < 4; ++i) {
       d->mix[i] = r.number((*a)[i], w + ".mix", 0, 1);
       sum += d->mix[i];
@@ -325,8 +384,9 @@ void parseDriven(const TreeReader& r, const toml::table& c, const std::string& w
   d->standDrift = r.number(c, "stand_drift", -1, -1, 100, w);
   d->leadIn = r.flag(c, "lead_in", false, w);
   if (d->leadIn && s.parent.empty())
-    throw Error(located(r.file, r.line(*c.get("lead_in")), w + ".lead_in: only a branch's card starts with a lead-in (the "
-                                                               "parent drives first)"));
+    throw Error(located(r.file, r.line(*c.get("lead_in")),
+                        w + ".lead_in: only a branch's card starts with a lead-in (the "
+                            "parent drives first)"));
 }
 
 // A kind's own figures (the driven and lying parts are read before)
@@ -399,12 +459,14 @@ void checkHandoverSkills(const TreeReader& r, const TrainingTree& tree) {
     if (!s.handoverBackFrom.empty()) {
       const SkillSpec* child = tree.find(s.handoverBackFrom);
       if (!child || child->parent != s.name)
-        throw Error(located(r.file, s.line, "skill." + s.name + ": training.handover_back_from = '" + s.handoverBackFrom +
-                                            "' is not one of its children"));
+        throw Error(located(r.file, s.line,
+                            "skill." + s.name + ": training.handover_back_from = '" + s.handoverBackFrom +
+                                "' is not one of its children"));
     }
     if (!s.handoverFrom.empty() && !fromAncestor)
-      throw Error(located(r.file, s.line, "skill." + s.name + ": training.handover_from = '" + s.handoverFrom +
-                                          "' is not one of its ancestors"));
+      throw Error(located(
+          r.file, s.line,
+          "skill." + s.name + ": training.handover_from = '" + s.handoverFrom + "' is not one of its ancestors"));
   }
 }
 
@@ -428,15 +490,17 @@ SkillSpec parseSpec(const TreeReader& r, const robot::SkillDef& def, const toml:
   if (const toml::table* d = r.table(t, "draws", false, where)) parseDraws(r, *d, where, &s.draws);
   parseRewards(r, *r.table(t, "rewards", true, where), where, &s);
   *givesRandomisation = t.get("randomisation") != nullptr;
-  if (const toml::table* d = r.table(t, "randomisation", false, where)) parseRandomisation(r, *d, where, &s.randomisation);
+  if (const toml::table* d = r.table(t, "randomisation", false, where))
+    parseRandomisation(r, *d, where, &s.randomisation);
   if (const toml::table* tr = r.table(t, "training", false, where)) parseTraining(r, *tr, where, &s);
   if (const toml::table* bt = r.table(t, "ball", false, where)) parseBall(r, *bt, where, &s);
   if (const toml::table* tt = r.table(t, "terrain", false, where)) parseTerrain(r, *tt, where, &s);
   if (const toml::table* ct = r.table(t, "curriculum", false, where)) parseCurriculum(r, *ct, where, &s);
   if (const toml::table* c = r.table(t, "card", false, where)) parseCard(r, *c, where, &s);
   if (s.commands.ballCommand && !s.ball.enabled)
-    throw Error(located(r.file, s.line, where + ": [commands] ball_command shows a ball that training places: it needs a "
-                                                "[ball] table"));
+    throw Error(located(r.file, s.line,
+                        where + ": [commands] ball_command shows a ball that training places: it needs a "
+                                "[ball] table"));
   return s;
 }
 

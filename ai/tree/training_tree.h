@@ -52,7 +52,7 @@ struct RandomisationDef {
 /// training a slab over the whole arena, on the card a tunnel `width` wide along the heading.
 struct TerrainDef {
   enum class Kind { Flat, Stairs, Ceiling } kind = Kind::Flat;
-  double ceilingHeight = 0.6;   ///< Ceiling: the underside's height above the ground [m]
+  double ceilingHeight = 0.6;  ///< Ceiling: the underside's height above the ground [m]
   int steps = 10;
   double stepDepth = 0.30;      ///< tread [m]
   double startX = 1.0;          ///< flat run-up before the first step [m]
@@ -72,12 +72,12 @@ struct TerrainDef {
 /// as it was last trained. Lessons advance as the terrain's do (advance_at); a skill has either terrain lessons or
 /// a command curriculum.
 struct CurriculumDef {
-  std::vector<double> vxMax;          ///< [m/s], one per lesson (or empty)
-  std::vector<double> amplitudeMax;   ///< one per lesson (or empty)
-  std::vector<int> halfPeriodTicks;   ///< T1 per lesson (empty: the prior's)
+  std::vector<double> vxMax;         ///< [m/s], one per lesson (or empty)
+  std::vector<double> amplitudeMax;  ///< one per lesson (or empty)
+  std::vector<int> halfPeriodTicks;  ///< T1 per lesson (empty: the prior's)
   size_t lessons() const { return std::max(vxMax.size(), amplitudeMax.size()); }
-  std::vector<double> stride;         ///< stride gain per lesson (empty: the prior's)
-  double advanceAt = 1.0;             ///< average episode score (SkillEnv::curriculumScore) that moves to the next lesson
+  std::vector<double> stride;  ///< stride gain per lesson (empty: the prior's)
+  double advanceAt = 1.0;      ///< average episode score (SkillEnv::curriculumScore) that moves to the next lesson
 };
 
 /// A ball placed in front of the robot at every episode start (kick): offset from the pelvis in the heading

@@ -87,8 +87,10 @@ void CommandInput::tick() {
 
   // Velocity axes in a fixed order; each sees the others as already updated this tick.
   const int forward = direction(keys, 'W', 'S'), side = direction(keys, 'Q', 'E'), turn = direction(keys, 'A', 'D');
-  rampVelocityCommand(forward > 0 ? limits_.vxForward : forward < 0 ? limits_.vxBackward : 0.0, side * limits_.vyMax,
-                      turn * limits_.wzMax, limits_.vRate, limits_.wzRate, &s.vx, &s.vy, &s.wz);
+  rampVelocityCommand(forward > 0   ? limits_.vxForward
+                      : forward < 0 ? limits_.vxBackward
+                                    : 0.0,
+                      side * limits_.vyMax, turn * limits_.wzMax, limits_.vRate, limits_.wzRate, &s.vx, &s.vy, &s.wz);
 
   // Amplitude: R raises, F lowers, kept in [0, 1].
   const int raise = direction(keys, 'R', 'F');

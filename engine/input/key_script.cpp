@@ -105,9 +105,12 @@ std::string parseSeconds(std::string_view word, double* out) {
   if (!word.empty() && word[0] == '-') return "negative time " + quoted + " (times are seconds from the start)";
   size_t digits = 0, dots = 0;
   for (char c : word) {
-    if (c >= '0' && c <= '9') ++digits;
-    else if (c == '.') ++dots;
-    else return "bad time " + quoted + ": expected seconds as a plain decimal such as 6.20";
+    if (c >= '0' && c <= '9')
+      ++digits;
+    else if (c == '.')
+      ++dots;
+    else
+      return "bad time " + quoted + ": expected seconds as a plain decimal such as 6.20";
   }
   if (digits == 0 || dots > 1) return "bad time " + quoted + ": expected seconds as a plain decimal such as 6.20";
   double value = 0.0;
@@ -131,9 +134,12 @@ std::optional<KeyAction> parseKeyAction(std::string_view word) {
 
 std::string_view keyActionName(KeyAction action) {
   switch (action) {
-    case KeyAction::kDown: return "down";
-    case KeyAction::kUp: return "up";
-    case KeyAction::kTap: return "tap";
+    case KeyAction::kDown:
+      return "down";
+    case KeyAction::kUp:
+      return "up";
+    case KeyAction::kTap:
+      return "tap";
   }
   return "?";
 }
@@ -151,9 +157,9 @@ bool isValidKey(char key) { return keyIndex(key) >= 0; }
 KeyScript parseKeyScriptWithSeed(std::string_view text, const std::string& fileName) {
   KeyScript script;
   std::vector<KeyEvent>& events = script.events;
-  uint32_t held = 0;           // bit keyIndex(k) set while key k is down
+  uint32_t held = 0;  // bit keyIndex(k) set while key k is down
   double previousSeconds = 0.0;
-  std::string previousTime;    // the previous event's time as written, for messages
+  std::string previousTime;  // the previous event's time as written, for messages
   int lineNumber = 0;
   size_t pos = 0;
   while (pos < text.size()) {

@@ -18,9 +18,9 @@ enum class KeyAction { kDown, kUp, kTap };
 
 /// One key event at a control tick.
 struct KeyEvent {
-  int64_t tick = 0;                     ///< control tick (0.01 s each) at which the event applies
-  KeyAction action = KeyAction::kTap;   ///< down, up or tap
-  char key = '0';                       ///< '0'..'9' or one of 'W','A','S','D','Q','E','R','F' (uppercase)
+  int64_t tick = 0;                    ///< control tick (0.01 s each) at which the event applies
+  KeyAction action = KeyAction::kTap;  ///< down, up or tap
+  char key = '0';                      ///< '0'..'9' or one of 'W','A','S','D','Q','E','R','F' (uppercase)
 
   /// Same tick, action and key.
   bool operator==(const KeyEvent& o) const { return tick == o.tick && action == o.action && key == o.key; }

@@ -24,14 +24,15 @@ struct ColliderDef {
 /// One body of the articulation. For the base, the joint fields are unused.
 struct LinkDef {
   std::string name;
-  int parent = -1;                                          ///< index into ArticulationDef::links, -1 = base
-  double mass = 0.0;                                        ///< [kg]
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();            ///< CoM in the link frame [m]
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();    ///< about the CoM, link axes [kg m^2] (rotor inertia included)
-  std::string joint;                                        ///< name of the joint to the parent
+  int parent = -1;                                ///< index into ArticulationDef::links, -1 = base
+  double mass = 0.0;                              ///< [kg]
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();  ///< CoM in the link frame [m]
+  Eigen::Matrix3d inertia =
+      Eigen::Matrix3d::Identity();  ///< about the CoM, link axes [kg m^2] (rotor inertia included)
+  std::string joint;                ///< name of the joint to the parent
   Eigen::Isometry3d jointFrame = Eigen::Isometry3d::Identity();  ///< joint frame in the parent link frame (q = 0)
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();          ///< revolute axis in the joint (= link) frame
-  double lower = 0.0, upper = 0.0;                          ///< joint limits [rad]
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();               ///< revolute axis in the joint (= link) frame
+  double lower = 0.0, upper = 0.0;                               ///< joint limits [rad]
   std::vector<ColliderDef> colliders;
 };
 
@@ -43,12 +44,12 @@ struct ArticulationDef {
 
 /// Kinematic state of an articulation, in world coordinates.
 struct ArticulationState {
-  Eigen::Vector3d basePosition = Eigen::Vector3d::Zero();         ///< base link-frame origin [m]
+  Eigen::Vector3d basePosition = Eigen::Vector3d::Zero();            ///< base link-frame origin [m]
   Eigen::Quaterniond baseRotation = Eigen::Quaterniond::Identity();  ///< base link frame -> world
-  Eigen::Vector3d baseLinearVelocity = Eigen::Vector3d::Zero();   ///< of the base origin, world [m/s]
-  Eigen::Vector3d baseAngularVelocity = Eigen::Vector3d::Zero();  ///< world [rad/s]
-  std::vector<double> q;   ///< joint positions [rad], link order
-  std::vector<double> qd;  ///< joint velocities [rad/s]
+  Eigen::Vector3d baseLinearVelocity = Eigen::Vector3d::Zero();      ///< of the base origin, world [m/s]
+  Eigen::Vector3d baseAngularVelocity = Eigen::Vector3d::Zero();     ///< world [rad/s]
+  std::vector<double> q;                                             ///< joint positions [rad], link order
+  std::vector<double> qd;                                            ///< joint velocities [rad/s]
 };
 
 }  // namespace engine

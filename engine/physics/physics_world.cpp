@@ -20,9 +20,7 @@
 namespace engine {
 namespace {
 
-btVector3 toBt(const Eigen::Vector3d& v) {
-  return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z()));
-}
+btVector3 toBt(const Eigen::Vector3d& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
 btQuaternion toBt(const Eigen::Quaterniond& q) {
   return btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w()));
 }
@@ -55,8 +53,8 @@ struct PhysicsWorld::Impl {
   struct Articulation {
     btMultiBody* body = nullptr;
     std::vector<Eigen::Isometry3d> inertialInLink;  // index 0 = base, i + 1 = link i
-    std::vector<double> contactForce;                // same indexing
-    std::vector<double> mass;                        // same indexing
+    std::vector<double> contactForce;               // same indexing
+    std::vector<double> mass;                       // same indexing
   };
 
   PhysicsSettings settings;
@@ -92,12 +90,17 @@ struct PhysicsWorld::Impl {
     for (const ColliderDef& c : link.colliders) {
       btCollisionShape* s = nullptr;
       switch (c.kind) {
-        case ShapeKind::Box: s = own(new btBoxShape(toBt(c.halfExtents))); break;
-        case ShapeKind::Sphere: s = own(new btSphereShape(btScalar(c.radius))); break;
+        case ShapeKind::Box:
+          s = own(new btBoxShape(toBt(c.halfExtents)));
+          break;
+        case ShapeKind::Sphere:
+          s = own(new btSphereShape(btScalar(c.radius)));
+          break;
         case ShapeKind::Capsule:
           s = own(new btCapsuleShapeZ(btScalar(c.radius), btScalar(2.0 * c.halfLength)));
           break;
-        case ShapeKind::Plane: throw Error("physics: a link collider cannot be a plane");
+        case ShapeKind::Plane:
+          throw Error("physics: a link collider cannot be a plane");
       }
       compound->addChildShape(toBt(inertialInLink.inverse() * c.pose), s);
     }
@@ -120,8 +123,10 @@ PhysicsWorld::~PhysicsWorld() {
   for (auto& c : impl_->colliders) w->removeCollisionObject(c.get());
   for (auto& b : impl_->bodies) w->removeMultiBody(b.get());
   for (auto& o : impl_->objects) {
-    if (auto* rb = btRigidBody::upcast(o.get())) w->removeRigidBody(rb);
-    else w->removeCollisionObject(o.get());
+    if (auto* rb = btRigidBody::upcast(o.get()))
+      w->removeRigidBody(rb);
+    else
+      w->removeCollisionObject(o.get());
   }
   impl_->world.reset();
 }
@@ -257,8 +262,10 @@ ArticulationId PhysicsWorld::addArticulation(const ArticulationDef& def, const E
     col->setWorldTransform(toBt(inWorld[k]));
     col->setFriction(btScalar(friction));
     impl_->world->addCollisionObject(col, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
-    if (i < 0) mb->setBaseCollider(col);
-    else mb->getLink(i).m_collider = col;
+    if (i < 0)
+      mb->setBaseCollider(col);
+    else
+      mb->getLink(i).m_collider = col;
   }
   if (impl_->settings.jointLimits) {
     for (int i = 0; i < n; ++i) {

@@ -27,11 +27,11 @@ using BallId = int;
 
 /// A ball's physical properties.
 struct BallDef {
-  double radius = 0.11;          ///< [m] (a size-5 football)
-  double mass = 0.43;            ///< [kg]
+  double radius = 0.11;  ///< [m] (a size-5 football)
+  double mass = 0.43;    ///< [kg]
   double friction = 0.6;
-  double restitution = 0.6;      ///< bounciness, 0..1
-  double rollingFriction = 0.01; ///< [m] lever arm of Bullet's rolling resistance
+  double restitution = 0.6;       ///< bounciness, 0..1
+  double rollingFriction = 0.01;  ///< [m] lever arm of Bullet's rolling resistance
 };
 
 /// A ball's state in world coordinates.

@@ -95,8 +95,8 @@ std::vector<int> PlaneWorld::queryCircle(const Eigen::Vector2d& centre, double r
   std::vector<std::pair<size_t, int>> hits;
   for (b2Fixture* f : cb.found) {
     if (!b2TestOverlap(f->GetShape(), 0, &circle, 0, f->GetBody()->GetTransform(), at)) continue;
-    const size_t order = static_cast<size_t>(
-        std::find(impl_->bodies.begin(), impl_->bodies.end(), f->GetBody()) - impl_->bodies.begin());
+    const size_t order = static_cast<size_t>(std::find(impl_->bodies.begin(), impl_->bodies.end(), f->GetBody()) -
+                                             impl_->bodies.begin());
     hits.emplace_back(order, static_cast<int>(f->GetBody()->GetUserData().pointer) - 1);
   }
   std::sort(hits.begin(), hits.end());

@@ -3,15 +3,15 @@
 // camera looks down its -Z, clip space [-1, 1]). Pure maths: no GL here.
 #pragma once
 
-#include "engine/render/scene_snapshot.h"
-
 #include <Eigen/Core>
+
+#include "engine/render/scene_snapshot.h"
 
 namespace engine {
 
 /// A pinhole camera looking from eye at target.
 struct Camera {
-  Eigen::Vector3d eye = Eigen::Vector3d(0, -4, 1);  ///< camera position, world frame [m]
+  Eigen::Vector3d eye = Eigen::Vector3d(0, -4, 1);   ///< camera position, world frame [m]
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< point at the image centre, world frame [m]
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();     ///< world direction shown as "up" in the image
   double fovYDeg = 45.0;                             ///< vertical field of view [deg]

@@ -2,15 +2,15 @@
 // function), then engine::writeFileAtomic.
 #include "engine/render/png_writer.h"
 
-#include "engine/core/error.h"
-#include "engine/core/file_io.h"
-
 #include <png.h>
 
 #include <csetjmp>
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
 
 namespace engine {
 

@@ -3,14 +3,14 @@
 // rings with the two hemispheres pushed apart by halfLength.
 #include "engine/render/renderer.h"
 
-#include "engine/core/error.h"
-
 #include <GL/osmesa.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
+
+#include "engine/core/error.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
@@ -44,9 +44,8 @@ struct Mesh {
 Mesh makeUnitBox() {
   // each face: outward normal n and tangents u, v with u x v = n, so the corner order below is CCW
   static const int faces[6][3][3] = {
-      {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},   {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-      {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},   {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
-      {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},   {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}},
+      {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},  {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}}, {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},
+      {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}}, {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}},
   };
   static const int corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   Mesh mesh;
@@ -80,8 +79,7 @@ RoundMesh makeUnitRound() {
     for (int j = 0; j < kSlices; ++j) {
       const double lon = 2.0 * kPi * j / kSlices;
       const GLfloat n[3] = {static_cast<GLfloat>(std::cos(lat) * std::cos(lon)),
-                            static_cast<GLfloat>(std::cos(lat) * std::sin(lon)),
-                            static_cast<GLfloat>(std::sin(lat))};
+                            static_cast<GLfloat>(std::cos(lat) * std::sin(lon)), static_cast<GLfloat>(std::sin(lat))};
       round.sphere.positions.insert(round.sphere.positions.end(), n, n + 3);
       round.sphere.normals.insert(round.sphere.normals.end(), n, n + 3);
       round.sides.push_back(north ? 1.0f : -1.0f);

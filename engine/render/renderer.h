@@ -4,12 +4,12 @@
 // Limitations: no shadows, no anti-aliasing; the ground Plane is drawn as a finite checkered square.
 #pragma once
 
-#include "engine/render/camera.h"
-#include "engine/render/scene_snapshot.h"
-
 #include <cstdint>
 #include <memory>
 #include <vector>
+
+#include "engine/render/camera.h"
+#include "engine/render/scene_snapshot.h"
 
 namespace engine {
 

@@ -32,7 +32,7 @@ struct SceneSnapshot {
   Eigen::Vector3d follow = Eigen::Vector3d::Zero();  ///< the point the camera follows (robot pelvis) [m]
   double followYaw = 0.0;                            ///< heading of the followed body, for Chase [rad]
   CameraMode camera = CameraMode::Side;
-  std::string hud;                                   ///< HUD text drawn top-left (lines split at \n)
+  std::string hud;  ///< HUD text drawn top-left (lines split at \n)
 };
 
 }  // namespace engine

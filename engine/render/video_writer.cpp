@@ -2,8 +2,6 @@
 // MSG_NOSIGNAL, so a dead ffmpeg gives EPIPE (reported as engine::Error) instead of SIGPIPE.
 #include "engine/render/video_writer.h"
 
-#include "engine/core/error.h"
-
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/socket.h>
@@ -17,6 +15,8 @@
 #include <cstring>
 #include <filesystem>
 #include <vector>
+
+#include "engine/core/error.h"
 
 extern char** environ;
 
@@ -71,11 +71,19 @@ VideoWriter::VideoWriter(const std::string& mp4Path, int width, int height, int 
     throw Error(mp4Path + ": cannot create a socket to ffmpeg: " + std::strerror(errno));
   }
 
-  const std::vector<std::string> args = {
-      ffmpeg, "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgba",
-      "-s", std::to_string(width) + "x" + std::to_string(height), "-r", std::to_string(fps), "-i", "-",
-      "-c:v", "libx264", "-pix_fmt", "yuv420p", "-preset", "veryfast", "-crf", "23", "-movflags", "+faststart",
-      tempPath_};
+  const std::vector<std::string> args = {ffmpeg,      "-y",
+                                         "-loglevel", "error",
+                                         "-f",        "rawvideo",
+                                         "-pix_fmt",  "rgba",
+                                         "-s",        std::to_string(width) + "x" + std::to_string(height),
+                                         "-r",        std::to_string(fps),
+                                         "-i",        "-",
+                                         "-c:v",      "libx264",
+                                         "-pix_fmt",  "yuv420p",
+                                         "-preset",   "veryfast",
+                                         "-crf",      "23",
+                                         "-movflags", "+faststart",
+                                         tempPath_};
   std::vector<char*> argv;
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);

@@ -40,11 +40,11 @@ class VideoWriter {
   int width_;
   int height_;
   int frames_ = 0;
-  pid_t pid_ = -1;          // ffmpeg, -1 when not running
-  int input_ = -1;          // our end of ffmpeg's stdin (a socket, so writes can use MSG_NOSIGNAL)
-  int exitStatus_ = 0;      // waitpid status after stopChild
+  pid_t pid_ = -1;               // ffmpeg, -1 when not running
+  int input_ = -1;               // our end of ffmpeg's stdin (a socket, so writes can use MSG_NOSIGNAL)
+  int exitStatus_ = 0;           // waitpid status after stopChild
   std::FILE* errors_ = nullptr;  // anonymous temp file holding ffmpeg's stderr
-  bool closed_ = false;     // finish() done or failed
+  bool closed_ = false;          // finish() done or failed
 };
 
 }  // namespace engine

@@ -3,8 +3,8 @@
 #include "engine/replay/replay.h"
 
 #include <array>
-#include <optional>
 #include <cstdio>
+#include <optional>
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
@@ -31,10 +31,14 @@ std::string checkBytes(std::string_view bytes) {
     char hex[8];
     std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned>(c));
     std::string what;
-    if (c == 0) what = "NUL byte (binary data in a text replay)";
-    else if (c == '\r') what = "carriage return (CRLF line endings are not allowed)";
-    else if (c >= 0x80) what = "non-ASCII byte " + std::string(hex) + " (replays are plain ASCII)";
-    else what = "control byte " + std::string(hex) + " (binary data in a text replay)";
+    if (c == 0)
+      what = "NUL byte (binary data in a text replay)";
+    else if (c == '\r')
+      what = "carriage return (CRLF line endings are not allowed)";
+    else if (c >= 0x80)
+      what = "non-ASCII byte " + std::string(hex) + " (replays are plain ASCII)";
+    else
+      what = "control byte " + std::string(hex) + " (binary data in a text replay)";
     return "byte " + std::to_string(i) + ": " + what;
   }
   return "";
@@ -74,8 +78,10 @@ class ReplayReader {
     while (nextLine()) {
       if (line_.size() > kMaxReplayLineLength) fail("line too long (limit 1024 characters)");
       if (!splitFields(line_, &fields_)) fail("malformed line: fields must be separated by single spaces");
-      if (lineNumber_ == 1) readMagic();
-      else if (readBodyLine()) return replay_;
+      if (lineNumber_ == 1)
+        readMagic();
+      else if (readBodyLine())
+        return replay_;
     }
     fail("truncated: missing end line");
   }
@@ -110,8 +116,10 @@ class ReplayReader {
     for (char c : word) {
       if (c < '0' || c > '9') fail("bad " + std::string(what) + " " + quote(word) + ": expected a whole number");
       const auto d = static_cast<uint64_t>(c - '0');
-      if (v > (UINT64_MAX - d) / 10) overflow = true;
-      else v = v * 10 + d;
+      if (v > (UINT64_MAX - d) / 10)
+        overflow = true;
+      else
+        v = v * 10 + d;
     }
     if (overflow || v < min || v > max) {
       fail(std::string(what) + " " + quote(word) + " out of range (" + std::to_string(min) + ".." +
@@ -160,9 +168,12 @@ class ReplayReader {
     if (headersRead_ < kHeaderKeys.size()) {
       fail("missing '" + std::string(kHeaderKeys[headersRead_]) + "' line before '" + std::string(key) + "'");
     }
-    if (key == "event") readEvent();
-    else if (key == "state") readState();
-    else return readEnd();
+    if (key == "event")
+      readEvent();
+    else if (key == "state")
+      readState();
+    else
+      return readEnd();
     return false;
   }
 
@@ -297,9 +308,7 @@ std::string serializeReplay(const Replay& replay) {
   return out;
 }
 
-Replay parseReplay(std::string_view bytes, const std::string& fileName) {
-  return ReplayReader(bytes, fileName).read();
-}
+Replay parseReplay(std::string_view bytes, const std::string& fileName) { return ReplayReader(bytes, fileName).read(); }
 
 void saveReplay(const std::string& path, const Replay& replay) {
   std::string bytes;

@@ -1,8 +1,8 @@
 // adam_test.cpp — Adam's first steps worked by hand (with bias correction every step moves a parameter by
 // lr * g / (|g| + eps) while g is constant), zero gradients, and global-norm clipping before/after.
-#include <gtest/gtest.h>
-
 #include "ai/nn/adam.h"
+
+#include <gtest/gtest.h>
 
 namespace ai {
 namespace {

@@ -1,11 +1,12 @@
 // checkpoint_test.cpp — policy files and checkpoints round-trip byte-exactly, and truncated, corrupted,
 // foreign or future-version files are rejected with a message naming the file.
+#include "ai/ppo/checkpoint.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include "ai/nn/byte_io.h"
-#include "ai/ppo/checkpoint.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 

@@ -1,8 +1,8 @@
 // gae_test.cpp — computeGae on a 3-step rollout worked by hand: plain bootstrap from lastValues, a fall
 // cutting the bootstrap, a time-out bootstrapping from V(final observation), and independent columns.
-#include <gtest/gtest.h>
-
 #include "ai/ppo/gae.h"
+
+#include <gtest/gtest.h>
 
 namespace ai {
 namespace {

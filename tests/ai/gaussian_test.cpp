@@ -1,8 +1,8 @@
 // gaussian_test.cpp — diagonal Gaussian log-probability and entropy for a 2-D case worked by hand, and the
 // portable Box-Muller sampler (moments, determinism, draw count).
-#include <gtest/gtest.h>
-
 #include "ai/ppo/gaussian.h"
+
+#include <gtest/gtest.h>
 
 namespace ai {
 namespace {

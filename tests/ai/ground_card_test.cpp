@@ -49,7 +49,8 @@ struct Tree {
 // switch (tests/robot/pose_prior_test.cpp); the walk takes over only once it stands and has settled
 TEST(StandUpCard, ThePriorsAloneLieDownThenStandUpWithinFiveSeconds) {
   Tree t;
-  const ai::CardResult r = ai::runGroundCard(fixtures::robotModel(), t.standup, kZero, t.run(), {&t.prone, kZero}, {&t.walk, kZero});
+  const ai::CardResult r =
+      ai::runGroundCard(fixtures::robotModel(), t.standup, kZero, t.run(), {&t.prone, kZero}, {&t.walk, kZero});
   EXPECT_EQ(figure(r, "lying face down when").value, 100.0);
   EXPECT_NEAR(figure(r, "mean time to stand").value, 4.64, 0.2);
   EXPECT_LE(figure(r, "slowest stand").value, 5.0);
@@ -61,7 +62,8 @@ TEST(StandUpCard, ThePriorsAloneLieDownThenStandUpWithinFiveSeconds) {
 TEST(StandUpCard, ASkillThatDoesNotRiseFailsIt) {
   Tree t;
   t.standup.prior.kind = robot::PriorDef::Kind::None;  // no keyframes: zero output only holds the default pose
-  const ai::CardResult r = ai::runGroundCard(fixtures::robotModel(), t.standup, kZero, t.run(), {&t.prone, kZero}, {&t.walk, kZero});
+  const ai::CardResult r =
+      ai::runGroundCard(fixtures::robotModel(), t.standup, kZero, t.run(), {&t.prone, kZero}, {&t.walk, kZero});
   EXPECT_EQ(figure(r, "episodes standing").value, 0.0);
   EXPECT_FALSE(r.pass);
 }
@@ -93,12 +95,13 @@ TEST(CrawlCard, ThePriorAloneCrawlsForwardUnderTheCeilingAndStandingStillFails) 
   ai::SkillSpec crawl = *t.tree.find("crawl");
   ai::CardRun run = Tree::twoEpisodes(crawl, 3);
   run.card.as<ai::CrawlCard>()->distance = 1.5;  // 1.5 m within 6 s
-  crawl.randomisation.friction = {1.0, 1.0};  // the prior alone is friction-sensitive (docs/skills/crawl.md): at 1 it crawls
+  crawl.randomisation.friction = {1.0,
+                                  1.0};  // the prior alone is friction-sensitive (docs/skills/crawl.md): at 1 it crawls
   const ai::CardResult r = t.groundCard(crawl, run);
   EXPECT_EQ(figure(r, "lying face down when").value, 100.0);
   EXPECT_GT(figure(r, "mean progress along the tunnel").value, 1.0);
   EXPECT_GT(figure(r, "mean speed over the").value, 0.2);  // from the switch: the 1.5 s onto all fours included
-  crawl.prior.kind = robot::PriorDef::Kind::None;  // zero output only holds the default pose: it does not crawl
+  crawl.prior.kind = robot::PriorDef::Kind::None;          // zero output only holds the default pose: it does not crawl
   const ai::CardResult still = t.groundCard(crawl, run);
   EXPECT_LT(figure(still, "mean progress along the tunnel").value, 0.3);
   EXPECT_EQ(figure(still, "episodes crawling").value, 0.0);

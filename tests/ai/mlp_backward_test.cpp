@@ -54,7 +54,8 @@ void checkGradients(Activation activation) {
         const double down = referenceLoss(w, xd, cd);
         p[i] = saved;
         const double numeric = (up - down) / (double(saved + float(h)) - double(saved - float(h)));
-        EXPECT_NEAR(g[i], numeric, 2e-3 * std::max(1.0, std::abs(numeric))) << "layer " << k << (which ? " b" : " W") << i;
+        EXPECT_NEAR(g[i], numeric, 2e-3 * std::max(1.0, std::abs(numeric)))
+            << "layer " << k << (which ? " b" : " W") << i;
       }
     }
   }

@@ -1,8 +1,8 @@
 // normalizer_test.cpp — RunningNormalizer: mean and variance of a known set (with the 1e-4 prior count),
 // batch-order independence, clipping, frozen normalisation.
-#include <gtest/gtest.h>
-
 #include "ai/nn/normalizer.h"
+
+#include <gtest/gtest.h>
 
 namespace ai {
 namespace {
@@ -13,7 +13,8 @@ TEST(RunningNormalizer, MeanAndVarianceOfKnownSetIncludePriorCount) {
   batch << 1, 2, 3, 4, 10, 10, 10, 10;
   norm.update(batch);
   // prior (mean 0, var 1, count c = 1e-4) merged with the batch (mean 2.5, var 1.25, count 4):
-  // mean = 4*2.5 / 4.0001 = 2.4999375;  var = (c*1 + 4*1.25 + 2.5^2 * c*4/4.0001) / 4.0001 = 5.000725 / 4.0001 = 1.2501500
+  // mean = 4*2.5 / 4.0001 = 2.4999375;  var = (c*1 + 4*1.25 + 2.5^2 * c*4/4.0001) / 4.0001 = 5.000725 / 4.0001
+  // = 1.2501500
   const double c = 1e-4, total = 4.0 + c;
   EXPECT_NEAR(norm.mean()(0), 10.0 / total, 1e-6);
   EXPECT_NEAR(norm.variance()(0), (c + 5.0 + 6.25 * c * 4.0 / total) / total, 1e-12);
@@ -55,16 +56,16 @@ TEST(RunningNormalizer, NormalizesAndClipsToFive) {
 TEST(RunningNormalizer, BranchAdaptationNeutralisesFeaturesTheParentNeverSawVary) {
   ai::RunningNormalizer n(3);
   Eigen::MatrixXf batch(3, 4);
-  batch << 1, 2, 3, 4,   // varies
-      0, 0, 0, 0,        // a command slot the parent never used
-      5, 5, 5, 5;        // constant but not zero
+  batch << 1, 2, 3, 4,  // varies
+      0, 0, 0, 0,       // a command slot the parent never used
+      5, 5, 5, 5;       // constant but not zero
   for (int i = 0; i < 1000; ++i) n.update(batch);
   EXPECT_GT(n.count(), 3999.0);
   n.adaptForBranch(100.0);
   EXPECT_DOUBLE_EQ(n.count(), 100.0);
-  EXPECT_NEAR(n.mean()[0], 2.5, 1e-6);     // kept
+  EXPECT_NEAR(n.mean()[0], 2.5, 1e-6);  // kept
   EXPECT_NEAR(n.variance()[0], 1.25, 1e-6);
-  EXPECT_EQ(n.mean()[1], 0.0f);            // neutral: values pass at their own scale
+  EXPECT_EQ(n.mean()[1], 0.0f);  // neutral: values pass at their own scale
   EXPECT_EQ(n.variance()[1], 1.0);
   EXPECT_EQ(n.variance()[2], 1.0);
   Eigen::MatrixXf x(3, 1), out;

@@ -1,9 +1,9 @@
 // onnx_test.cpp — policy files: the loaded network computes what training computed, the file passes the
 // ONNX checker, metadata survives, and bad bytes or failed writes never crash or leave files behind.
-#include "ai/onnx/policy_onnx.h"
-
 #include <gtest/gtest.h>
 #include <stdlib.h>
+
+#include "ai/onnx/policy_onnx.h"
 
 // treelearn_tests links libonnx through tl_ai but does not inherit its compile definitions
 #ifndef ONNX_NAMESPACE
@@ -216,7 +216,9 @@ TEST(Onnx, RandomBytesAndTruncatedFilesAreRejected) {
     loadPolicyOnnx(bad);
     ADD_FAILURE() << "wrong weight shape accepted";
   } catch (const engine::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("node 5 (Gemm) weight 'w1' has shape [16,15], expected [*,16]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("node 5 (Gemm) weight 'w1' has shape [16,15], expected [*,16]"),
+              std::string::npos)
+        << e.what();
   }
 }
 

@@ -1,9 +1,10 @@
 // ppo_config_test.cpp — PpoConfig defaults (the paper's Table 2), TOML overrides, strict keys with
 // file:line errors, and the toToml round trip.
+#include "ai/ppo/ppo_config.h"
+
 #include <gtest/gtest.h>
 
 #include "ai/ppo/ppo.h"
-#include "ai/ppo/ppo_config.h"
 #include "engine/core/error.h"
 
 namespace ai {
@@ -34,9 +35,10 @@ TEST(PpoConfig, DefaultsAreTable2) {
 }
 
 TEST(PpoConfig, TableOverridesDefaults) {
-  const PpoConfig c = parsePpoConfig("[env]\nx = 1\n[ppo]\nbatch_size = 512\ngamma = 0.99\nactor_hidden = [64, 64]\n"
-                                     "activation = \"tanh\"\nclip_value_loss = true\nreward_scale = 2\n",
-                                     "run.toml");
+  const PpoConfig c = parsePpoConfig(
+      "[env]\nx = 1\n[ppo]\nbatch_size = 512\ngamma = 0.99\nactor_hidden = [64, 64]\n"
+      "activation = \"tanh\"\nclip_value_loss = true\nreward_scale = 2\n",
+      "run.toml");
   EXPECT_EQ(c.batchSize, 512);
   EXPECT_EQ(c.gamma, 0.99);
   EXPECT_EQ(c.actorHidden, (std::vector<int>{64, 64}));
@@ -58,7 +60,8 @@ TEST(PpoConfig, ASkillsOwnTableOverridesTheSharedOneKeyByKey) {
     parsePpoConfig(text + "gama = 0.9\n", "tree.toml", "skill.standup.ppo", shared);
     ADD_FAILURE() << "a misspelt key was accepted";
   } catch (const engine::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("tree.toml:6: unknown key 'gama' in [skill.standup.ppo]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("tree.toml:6: unknown key 'gama' in [skill.standup.ppo]"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -78,7 +81,8 @@ TEST(PpoConfig, NonFiniteAndUnworkableValuesAreRefusedAtTheirLine) {
   EXPECT_EQ(errorOf("[ppo]\ndesired_kl = 1e300\n"), "run.toml:2: desired_kl must be below 10");
   EXPECT_EQ(errorOf("[ppo]\n\nactor_hidden = [2147483647]\n"), "run.toml:3: actor_hidden widths must be in [1, 8192]");
   EXPECT_EQ(errorOf("[ppo]\nnum_epoch = 2147483647\n"), "run.toml:2: num_epoch must be at most 1000");
-  EXPECT_EQ(errorOf("[ppo]\nlearning_rate = 2.0\n"), "run.toml:2: learning_rate, learning_rate_final, branch_learning_rate and adaptive_lr_max must be below 1");
+  EXPECT_EQ(errorOf("[ppo]\nlearning_rate = 2.0\n"),
+            "run.toml:2: learning_rate, learning_rate_final, branch_learning_rate and adaptive_lr_max must be below 1");
   EXPECT_EQ(errorOf("[ppo]\nbatch_size = 40960\n"),
             "run.toml:2: buffer_size must be at most 10^7 and batch_size at most buffer_size");
 }
@@ -103,7 +107,7 @@ namespace ai {
 namespace {
 
 TEST(AdaptiveLearningRate, KlAboveTwiceTheTargetDividesByOneAndAHalfAndBelowHalfMultiplies) {
-  PpoConfig c;  // desired KL 0.01, bounds [1e-6, 1e-3]
+  PpoConfig c;                                                  // desired KL 0.01, bounds [1e-6, 1e-3]
   EXPECT_DOUBLE_EQ(adaptLearningRate(3e-4, 0.03, c), 2e-4);     // 0.03 > 0.02
   EXPECT_DOUBLE_EQ(adaptLearningRate(3e-4, 0.004, c), 4.5e-4);  // 0.004 < 0.005
   EXPECT_DOUBLE_EQ(adaptLearningRate(3e-4, 0.01, c), 3e-4);     // within [0.005, 0.02]: unchanged

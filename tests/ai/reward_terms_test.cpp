@@ -162,7 +162,8 @@ TEST(RewardTerms, FootEdgeCountsTheFeetOnTheGroundAcrossAStepsEdge) {
   // a 0.15 m step from x = 1.0 to 2.0; the sole's samples lie 0.12 m ahead of the foot link and 0.04 m behind it
   engine::PhysicsWorld world;
   world.addGround(1.0);
-  world.addStaticBox(Eigen::Vector3d(1.5, 0, 0.075), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 1, 0.075), 1.0);
+  world.addStaticBox(Eigen::Vector3d(1.5, 0, 0.075), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 1, 0.075),
+                     1.0);
   Context c;
   ai::RewardContext ctx = c.get();
   c.sensors.footContact = {true, true};
@@ -197,13 +198,13 @@ TEST(RewardTerms, PushUpHeightFollowsThePriorsCycleDownAtItsStartUpHalfWay) {
     ctx.phaseTick = tick;
     return term("pushup_height", ctx);
   };
-  EXPECT_NEAR(at(60, 0.11), 1.0, 1e-12);   // the cycle's start: down (0.11 m)
-  EXPECT_NEAR(at(140, 0.21), 1.0, 1e-12);  // half way: up (0.21 m)
+  EXPECT_NEAR(at(60, 0.11), 1.0, 1e-12);              // the cycle's start: down (0.11 m)
+  EXPECT_NEAR(at(140, 0.21), 1.0, 1e-12);             // half way: up (0.21 m)
   EXPECT_NEAR(at(140, 0.16), std::exp(-1.0), 1e-12);  // 0.05 m short
-  EXPECT_NEAR(at(100, 0.16), 1.0, 1e-12);  // a quarter: half way up, (1 - cos(pi / 2)) / 2
-  EXPECT_NEAR(at(20, 0.11), 1.0, 1e-12);   // the lead-in: down
-  EXPECT_LT(at(60, 0.21), 0.02);           // up when it should be down
-  c.skill.prior.cycleTicks = 0;            // no repeating prior: nothing to follow
+  EXPECT_NEAR(at(100, 0.16), 1.0, 1e-12);             // a quarter: half way up, (1 - cos(pi / 2)) / 2
+  EXPECT_NEAR(at(20, 0.11), 1.0, 1e-12);              // the lead-in: down
+  EXPECT_LT(at(60, 0.21), 0.02);                      // up when it should be down
+  c.skill.prior.cycleTicks = 0;                       // no repeating prior: nothing to follow
   EXPECT_EQ(at(140, 0.21), 0.0);
 }
 
@@ -230,7 +231,8 @@ TEST(RewardTerms, CrawlTermsMeasureAlongTheWayTheHeadPointsWhateverThePosture) {
   EXPECT_EQ(term("crawl_line", ctx), 0.0);  // not tracked here
   ctx.lineStart = &start, ctx.lineHeading = &along;
   c.sensors.basePosition = Eigen::Vector3d(4.0, 2.3, 0.3);
-  c.sensors.baseRotation = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
+  c.sensors.baseRotation =
+      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
   EXPECT_NEAR(term("crawl_line", ctx), std::exp(-0.09 / 0.1), 1e-12);
   EXPECT_NEAR(term("heading_hold", ctx), std::exp(-0.04 / 0.04), 1e-12);
   c.sensors.basePosition = Eigen::Vector3d(-2.0, 2.0, 0.3);  // behind the start, on the line, facing the start's way
@@ -246,14 +248,15 @@ TEST(RewardTerms, LineTurnPaysForTurningBackTowardTheLine) {
   EXPECT_EQ(term("line_turn", ctx), 0.0);  // no line tracked
   ctx.lineStart = &start, ctx.lineHeading = &along;
   // face down on all fours, 0.1 rad left of the line and 0.1 m left of it: the turn asked is -(0.1 + 0.05) rad/s
-  c.sensors.baseRotation = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
+  c.sensors.baseRotation =
+      Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
   c.sensors.basePosition = Eigen::Vector3d(2.0, 0.1, 0.3);
   EXPECT_NEAR(ai::lineTurnTarget(0.1, 0.1), -0.15, 1e-12);
   ctx.yawRateSmoothed = -0.15;  // turning right as asked
   EXPECT_NEAR(term("line_turn", ctx), 1.0, 1e-12);
-  ctx.yawRateSmoothed = 0.0;    // holding its wrong heading
+  ctx.yawRateSmoothed = 0.0;  // holding its wrong heading
   EXPECT_NEAR(term("line_turn", ctx), std::exp(-0.0225 / 0.01), 1e-12);
-  ctx.yawRateSmoothed = 0.05;   // turning further away
+  ctx.yawRateSmoothed = 0.05;  // turning further away
   EXPECT_NEAR(term("line_turn", ctx), std::exp(-0.04 / 0.01), 1e-12);
   // far off: the turn asked is capped at 0.2 rad/s
   EXPECT_DOUBLE_EQ(ai::lineTurnTarget(-0.5, -1.0), 0.2);

@@ -1,15 +1,16 @@
 // skill_env_test.cpp — the walk training environment: deterministic for a seed whatever the thread count,
 // rewards are the weighted sum of the named terms, and falls terminate.
 #include "ai/env/skill_env.h"
-#include "ai/env/terrain.h"
-#include "robot/skill_runtime.h"
-#include "engine/core/error.h"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cmath>
 #include <set>
+
+#include "ai/env/terrain.h"
+#include "engine/core/error.h"
+#include "robot/skill_runtime.h"
 
 namespace {
 
@@ -161,7 +162,7 @@ TEST(Curriculum, EpisodesLongerThanTheRolloutCountForWhatTheyPlayed) {
   EXPECT_EQ(env.curriculumLesson(), 0) << env.curriculumNote();
   zeroRollout(&env, 150, 2);
   EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
-  zeroRollout(&env, 50);   // 0.5 s: too short a sample to judge, nothing counts
+  zeroRollout(&env, 50);  // 0.5 s: too short a sample to judge, nothing counts
   EXPECT_EQ(env.curriculumLesson(), 1) << env.curriculumNote();
   EXPECT_NE(env.curriculumNote().find("over 0 episodes"), std::string::npos) << env.curriculumNote();
 }
@@ -195,7 +196,8 @@ TEST(Curriculum, ScoreIsTheReturnPerTickEachEpisodeCouldPlayAveragedOverTheLesso
   }
   env.endRollout();
   for (int i = 0; i < n; ++i)
-    if (start[size_t(i)] < steps) finished.push_back(running[size_t(i)]), finishedPossible.push_back(std::min(limit, steps - start[size_t(i)]));
+    if (start[size_t(i)] < steps)
+      finished.push_back(running[size_t(i)]), finishedPossible.push_back(std::min(limit, steps - start[size_t(i)]));
   double ema = 0;
   int k = 0;
   for (size_t e = 0; e < finished.size(); ++e) {
@@ -205,12 +207,13 @@ TEST(Curriculum, ScoreIsTheReturnPerTickEachEpisodeCouldPlayAveragedOverTheLesso
   }
   ASSERT_GT(k, n);  // the time-outs at 150 and the episodes cut at 260 after 110 ticks both count
   EXPECT_NEAR(env.curriculumScore(), ema / (1.0 - std::pow(0.98, k)), 1e-4) << env.curriculumNote();
-  EXPECT_NE(env.curriculumNote().find("over " + std::to_string(k) + " episodes"), std::string::npos) << env.curriculumNote();
+  EXPECT_NE(env.curriculumNote().find("over " + std::to_string(k) + " episodes"), std::string::npos)
+      << env.curriculumNote();
 }
 
 TEST(Curriculum, CommandLessonsRaiseTheForwardTopAndChangeTheGait) {
   ai::SkillSpec run = *fixture().tree.find("run");
-  run.handover = 0;           // no walk policy here: ordinary episodes only
+  run.handover = 0;        // no walk policy here: ordinary episodes only
   run.draws.ramp = false;  // each draw at once, so the lesson's top shows in the observed command
   run.termination.episodeSeconds = 0.2;
   run.curriculum.vxMax = {1.0, 1.5, run.commands.vx.hi};
@@ -277,7 +280,7 @@ TEST(Curriculum, NoLessonChangeBelowTheBar) {
 
 TEST(SkillEnv, RampedAmplitudeMovesAtMostItsRatePerTick) {
   ai::SkillSpec oneLeg = *fixture().tree.find("one_leg");
-  oneLeg.handover = 0;  // episodes from the spawn (a handover needs the walk's policy)
+  oneLeg.handover = 0;                                // episodes from the spawn (a handover needs the walk's policy)
   ASSERT_DOUBLE_EQ(oneLeg.draws.amplitudeRate, 1.0);  // the R / F keys' rate: 0.01 per tick
   ai::SkillEnv env(fixture().model, oneLeg, fixture().tree.path, envOptions(2, 1, false));
   Eigen::MatrixXf obs;
@@ -320,10 +323,10 @@ TEST(SkillEnv, RampedVelocityCommandsMoveAtTheKeyboardRatesOneAxisAtATime) {
     const Eigen::MatrixXf now = r.observations.middleRows(robot::kObsCommand, 3);
     for (int i = 0; i < 4; ++i) {
       if (r.terminated[size_t(i)] || r.truncated[size_t(i)]) continue;  // a new episode starts at rest
-      EXPECT_LE(std::abs(now(0, i) - previous(0, i)), 0.02f + 1e-5f);  // vx: 2 m/s^2
-      EXPECT_LE(std::abs(now(1, i) - previous(1, i)), 0.02f + 1e-5f);  // vy
-      EXPECT_LE(std::abs(now(2, i) - previous(2, i)), 0.03f + 1e-5f);  // wz: 3 rad/s^2
-      EXPECT_LE((now.col(i).array() != 0.0f).count(), 1);              // the interlock
+      EXPECT_LE(std::abs(now(0, i) - previous(0, i)), 0.02f + 1e-5f);   // vx: 2 m/s^2
+      EXPECT_LE(std::abs(now(1, i) - previous(1, i)), 0.02f + 1e-5f);   // vy
+      EXPECT_LE(std::abs(now(2, i) - previous(2, i)), 0.03f + 1e-5f);   // wz: 3 rad/s^2
+      EXPECT_LE((now.col(i).array() != 0.0f).count(), 1);               // the interlock
       moving += now.col(i).norm() > 0.1f;
     }
     previous = now;
@@ -399,7 +402,7 @@ TEST(SkillEnv, JitteredCommandIntervalsVaryWithinTheirBand) {
   walk.draws.zeroProbability = 0.0;
   walk.draws.resampleSeconds = 1.0;
   walk.draws.resampleJitter = 0.5;  // 0.5 .. 1.5 s
-  neverEnds(&walk);  // only command changes are watched
+  neverEnds(&walk);                 // only command changes are watched
   ai::SkillEnv env(fixture().model, walk, fixture().tree.path, envOptions(1, 1, false));
   Eigen::MatrixXf obs;
   env.reset(9, &obs);
@@ -449,9 +452,12 @@ TEST(SkillEnv, HandoverEpisodesStartWithTheParentsFilteredAction) {
     env.reset(7, &obs);
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < robot::kActionSize; ++j)
-        EXPECT_NEAR(obs(robot::kObsPreviousAction + j, i), handover > 0 ? crouch(j) : 0.0f, 1e-4) << "env " << i << " joint " << j;
-    if (handover > 0) EXPECT_GE(calls.load(), 4 * 50);  // 0.5 s of the parent in each of the 4 environments
-    else EXPECT_EQ(calls.load(), 0);
+        EXPECT_NEAR(obs(robot::kObsPreviousAction + j, i), handover > 0 ? crouch(j) : 0.0f, 1e-4)
+            << "env " << i << " joint " << j;
+    if (handover > 0)
+      EXPECT_GE(calls.load(), 4 * 50);  // 0.5 s of the parent in each of the 4 environments
+    else
+      EXPECT_EQ(calls.load(), 0);
   }
 }
 
@@ -498,7 +504,7 @@ TEST(SkillEnv, HandoverFromAGrandparentRoutesThroughTheSkillBetweenForItsTime) {
   ai::SkillEnv env(fixture().model, jump, fixture().tree.path, options);
   Eigen::MatrixXf obs;
   env.reset(7, &obs);
-  EXPECT_GE(walkCalls.load(), 4 * 50);  // 0.5 s of the walk (and its wait for rest) in each environment
+  EXPECT_GE(walkCalls.load(), 4 * 50);   // 0.5 s of the walk (and its wait for rest) in each environment
   EXPECT_GE(squatCalls.load(), 4 * 30);  // then 0.3 s of the squat in each
   EXPECT_LE(squatCalls.load(), 4 * 30 + 4 * robot::maxSwitchWaitTicks(jump));
   for (int i = 0; i < 4; ++i)
@@ -540,7 +546,8 @@ TEST(SkillEnv, AHandoverIntoTheJumpWaitsForASettledStandAsPlayDoes) {
     ASSERT_TRUE(handedOver);
     EXPECT_GT(squatCalls, bobTicks) << "the switch came while the squat still bobbed";
     EXPECT_TRUE(robot::isStandingSettled(sensors));
-    for (int j = 0; j < robot::kNumLegJoints; ++j) EXPECT_LT(std::abs(sensors.qd[size_t(j)]), robot::kSettledJointSpeed) << j;
+    for (int j = 0; j < robot::kNumLegJoints; ++j)
+      EXPECT_LT(std::abs(sensors.qd[size_t(j)]), robot::kSettledJointSpeed) << j;
   }
 }
 
@@ -564,7 +571,8 @@ TEST(SkillEnv, ARampedCommandGoesOnFromTheHandoversAsTheKeysDoInPlay) {
     ai::SkillEnv env(fixture().model, run, fixture().tree.path, options);
     Eigen::MatrixXf obs;
     env.reset(3, &obs);
-    for (int i = 0; i < 4; ++i) EXPECT_NEAR(obs(robot::kObsCommand, i), handover > 0 ? 1.0f : 0.0f, 0.02f + 1e-6f) << "env " << i;
+    for (int i = 0; i < 4; ++i)
+      EXPECT_NEAR(obs(robot::kObsCommand, i), handover > 0 ? 1.0f : 0.0f, 0.02f + 1e-6f) << "env " << i;
   }
 }
 
@@ -580,8 +588,10 @@ TEST(SkillEnv, ABallAbsentShareStartsThatShareOfEpisodesWithoutTheBall) {
     int none = 0;
     for (int i = 0; i < 40; ++i) {
       const float ahead = obs(robot::kObsCommand + 4, i), side = obs(robot::kObsCommand + 5, i);
-      if (ahead == 0.0f && side == 0.0f) ++none;
-      else EXPECT_NEAR(ahead, 0.30f, 0.05f);
+      if (ahead == 0.0f && side == 0.0f)
+        ++none;
+      else
+        EXPECT_NEAR(ahead, 0.30f, 0.05f);
     }
     return none;
   };
@@ -619,8 +629,10 @@ TEST(SkillEnv, HandoverFromAChildStartsUnderItFromTheStandAndSwitchesOnceSettled
     for (int j = 0; j < robot::kActionSize; ++j)
       EXPECT_NEAR(obs(robot::kObsPreviousAction + j, i), arms(j), 0.01) << "env " << i << " joint " << j;
     for (int j = 0; j < robot::kNumLegJoints; ++j)
-      EXPECT_LT(std::abs(obs(robot::kObsJointVelocity + j, i)), robot::kSettledJointSpeed) << "env " << i << " joint " << j;
-    EXPECT_LT(Eigen::Vector2f(obs(robot::kObsLinearVelocity, i), obs(robot::kObsLinearVelocity + 1, i)).norm(), robot::kRestSpeed)
+      EXPECT_LT(std::abs(obs(robot::kObsJointVelocity + j, i)), robot::kSettledJointSpeed)
+          << "env " << i << " joint " << j;
+    EXPECT_LT(Eigen::Vector2f(obs(robot::kObsLinearVelocity, i), obs(robot::kObsLinearVelocity + 1, i)).norm(),
+              robot::kRestSpeed)
         << "env " << i;
   }
   // without the child's policy the environment cannot start these episodes
@@ -669,8 +681,8 @@ TEST(SkillEnv, AmplitudeZeroMakesThatShareOfTheAmplitudeDrawsZero) {
   ai::SkillSpec oneLeg = *fixture().tree.find("one_leg");
   oneLeg.handover = 0;
   oneLeg.commands.amplitude = {0.5, 1.0};  // a draw is never 0 by itself
-  oneLeg.draws.amplitudeRate = 0.0;     // at once, so every draw shows in the observation
-  oneLeg.draws.resampleSeconds = 0.1;   // a draw every 10 ticks
+  oneLeg.draws.amplitudeRate = 0.0;        // at once, so every draw shows in the observation
+  oneLeg.draws.resampleSeconds = 0.1;      // a draw every 10 ticks
   neverEnds(&oneLeg);
   const int slot = robot::kObsCommand + 3;
   auto zeroShare = [&](double p) {
@@ -686,8 +698,10 @@ TEST(SkillEnv, AmplitudeZeroMakesThatShareOfTheAmplitudeDrawsZero) {
       if (k % 10 != 5) continue;  // once per draw, between the draws
       for (int i = 0; i < 4; ++i, ++draws) {
         const float a = r.observations(slot, i);
-        if (a == 0.0f) ++zero;
-        else EXPECT_GE(a, 0.5f);
+        if (a == 0.0f)
+          ++zero;
+        else
+          EXPECT_GE(a, 0.5f);
       }
     }
     return double(zero) / draws;
@@ -725,7 +739,7 @@ TEST(SkillEnv, ALineKeepingSkillSeesHowFarItHasDriftedFromTheLineItBeganOn) {
       EXPECT_EQ(rb.observations(kAux1, i), 0.0f);
     }
   }
-  EXPECT_GT(drift, 0.05);  // the fall turned it or moved it off its line, and it sees that
+  EXPECT_GT(drift, 0.05);             // the fall turned it or moved it off its line, and it sees that
   EXPECT_EQ(ra.rewards, rb.rewards);  // the same world: only what the policy is shown differs
 }
 
@@ -811,13 +825,13 @@ TEST(SkillEnv, LineSteerTurnsTheCommandBackTowardTheLine) {
 
 TEST(HeadingHold, SquaringToPlusXTurnsBackAtTwiceTheYawWithinTheCap) {
   robot::CommandDef range;
-  range.wz = {-0.3, 0.3};  // the cap is play's 0.2 rad/s
+  range.wz = {-0.3, 0.3};                                           // the cap is play's 0.2 rad/s
   EXPECT_DOUBLE_EQ(robot::squareToPlusX(0.05, 2.0, range), -0.10);  // turned left 0.05 rad: turn right at 0.1 rad/s
   EXPECT_DOUBLE_EQ(robot::squareToPlusX(-0.04, 2.0, range), 0.08);
-  EXPECT_DOUBLE_EQ(robot::squareToPlusX(0.5, 2.0, range), -0.2);  // capped
+  EXPECT_DOUBLE_EQ(robot::squareToPlusX(0.5, 2.0, range), -0.2);                   // capped
   EXPECT_NEAR(robot::squareToPlusX(2.0 * M_PI + 0.05, 2.0, range), -0.10, 1e-12);  // yaw wrapped first
-  EXPECT_DOUBLE_EQ(robot::squareToPlusX(3.0, 2.0, range), -0.2);   // nearly turned round: the short way is right
-  range.wz = {-0.1, 0.15};  // a narrower range caps at its nearer end
+  EXPECT_DOUBLE_EQ(robot::squareToPlusX(3.0, 2.0, range), -0.2);  // nearly turned round: the short way is right
+  range.wz = {-0.1, 0.15};                                        // a narrower range caps at its nearer end
   EXPECT_DOUBLE_EQ(robot::squareToPlusX(-1.0, 2.0, range), 0.1);
 }
 

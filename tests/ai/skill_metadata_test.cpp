@@ -22,7 +22,8 @@ struct Fixture {
 
 TEST(SkillMetadata, ModelTrainedUnderTheSameEntryIsAccepted) {
   Fixture f;
-  EXPECT_NO_THROW(ai::checkModelMatchesSkill(f.policyFor(f.walk), "walk.onnx", fixtures::robotModel(), f.walk, "tree.toml"));
+  EXPECT_NO_THROW(
+      ai::checkModelMatchesSkill(f.policyFor(f.walk), "walk.onnx", fixtures::robotModel(), f.walk, "tree.toml"));
 }
 
 TEST(SkillMetadata, ModelTrainedWithOtherGainsIsRefused) {
@@ -44,8 +45,9 @@ TEST(SkillMetadata, ModelTrainedWithAnotherPriorIsRefused) {
   Fixture f;
   robot::SkillDef trainedWith = f.walk;
   trainedWith.prior.halfPeriodTicks += 5;
-  EXPECT_THROW(ai::checkModelMatchesSkill(f.policyFor(trainedWith), "walk.onnx", fixtures::robotModel(), f.walk, "tree.toml"),
-               engine::Error);
+  EXPECT_THROW(
+      ai::checkModelMatchesSkill(f.policyFor(trainedWith), "walk.onnx", fixtures::robotModel(), f.walk, "tree.toml"),
+      engine::Error);
 }
 
 TEST(SkillMetadata, OlderFilesWithoutAKeyAreNotComparedOnIt) {

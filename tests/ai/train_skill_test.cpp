@@ -42,7 +42,8 @@ TEST(TrainSkill, AnUnknownSkillIsAnErrorThatListsTheTree) {
     FAIL() << "no error";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("unknown skill 'flying'"), std::string::npos) << e.what();
-    for (const char* name : {"walk", "standup", "crawl"}) EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    for (const char* name : {"walk", "standup", "crawl"})
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
   }
 }
 

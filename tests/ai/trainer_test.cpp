@@ -1,6 +1,8 @@
 // trainer_test.cpp — end-to-end PPO on pendulum swing-up: it learns within a fixed budget, two runs with
 // the same seed are bit-identical, an interrupted and resumed run equals an uninterrupted one, and a
 // non-finite value stops training with TrainingDiverged and a state dump.
+#include "ai/ppo/trainer.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,7 +14,6 @@
 
 #include "ai/env/pendulum_env.h"
 #include "ai/ppo/checkpoint.h"
-#include "ai/ppo/trainer.h"
 #include "engine/core/file_io.h"
 
 namespace ai {
@@ -130,14 +131,15 @@ void trainShort(const std::string& dir, const std::function<void(TrainerOptions*
 bool crashesAfterIterationThree(const std::string& dir, const PpoConfig& config = pendulumConfig()) {
   struct Crash {};
   try {
-    trainShort(dir,
-               [](TrainerOptions* o) {
-                 o->checkpointEvery = 2;
-                 o->onIteration = [](const TrainerProgress& p) {
-                   if (p.iteration == 3) throw Crash{};
-                 };
-               },
-               config);
+    trainShort(
+        dir,
+        [](TrainerOptions* o) {
+          o->checkpointEvery = 2;
+          o->onIteration = [](const TrainerProgress& p) {
+            if (p.iteration == 3) throw Crash{};
+          };
+        },
+        config);
   } catch (const Crash&) {
     return true;
   }
@@ -208,7 +210,13 @@ TEST(Trainer, ResumeKeepsTheAdaptiveLearningRate) {
   const TrainerCheckpoint atTwo = loadCheckpoint(crashed + "/checkpoint.bin");
   EXPECT_EQ(atTwo.iteration, 2);
   EXPECT_NE(atTwo.adaptiveLearningRate, adaptive.learningRate);  // it moved (the pendulum's KL is not 0.01)
-  trainShort(crashed, [](TrainerOptions* o) { o->checkpointEvery = 2; o->resume = true; }, adaptive);
+  trainShort(
+      crashed,
+      [](TrainerOptions* o) {
+        o->checkpointEvery = 2;
+        o->resume = true;
+      },
+      adaptive);
   EXPECT_EQ(engine::readFile(crashed + "/checkpoint.bin"), engine::readFile(straight + "/checkpoint.bin"));
   EXPECT_EQ(deterministicColumns(engine::readFile(crashed + "/log.csv")),
             deterministicColumns(engine::readFile(straight + "/log.csv")));
@@ -274,7 +282,7 @@ TEST(Trainer, ZeroedOutputLayerActsAsNothingButKeepsTheParentsFeatures) {
   PolicyState branch = parent;
   zeroActorOutput(&branch);
   actDeterministic(branch, obs, &after);
-  EXPECT_EQ(after.cwiseAbs().maxCoeff(), 0.0f);  // adds nothing to the prior
+  EXPECT_EQ(after.cwiseAbs().maxCoeff(), 0.0f);         // adds nothing to the prior
   EXPECT_TRUE(branch.actor.W[0] == parent.actor.W[0]);  // hidden layers, critic and log-std are the parent's
   EXPECT_TRUE(branch.critic.W[2] == parent.critic.W[2]);
   EXPECT_TRUE(branch.logStd == parent.logStd);

@@ -13,7 +13,8 @@ TEST(VelocityCard, ALeadInCardRunsTheDriverBeforeEachEpisode) {
   // the squat's height card, entered after the walk (no gait, zero output: it stands) drove 0.5 s and the robot
   // came to rest: the walk's policy runs at least 0.5 s in each of the 2 episodes and none of the lead-ins falls;
   // without the lead-in the walk's policy never runs and no lead-in figure is reported
-  const ai::TrainingTree tree = ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const ai::TrainingTree tree =
+      ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   ai::SkillSpec walk = *tree.find("walk");
   walk.prior.kind = robot::PriorDef::Kind::None;
   ai::SkillSpec squat = *tree.find("squat");
@@ -22,7 +23,9 @@ TEST(VelocityCard, ALeadInCardRunsTheDriverBeforeEachEpisode) {
   run.card.episodes = 2;
   run.card.driven()->leadIn = true;
   std::atomic<int> calls{0};
-  const ai::PolicyFn zero = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { act->setZero(robot::kActionSize, obs.cols()); };
+  const ai::PolicyFn zero = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) {
+    act->setZero(robot::kActionSize, obs.cols());
+  };
   const std::vector<ai::HandoverStage> leadIn{{&walk, [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) {
                                                  ++calls;
                                                  act->setZero(robot::kActionSize, obs.cols());
@@ -43,14 +46,17 @@ TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
   // a tilt limit of 0.01 deg makes every episode a fall within its first ticks, where it stands (x = 0): in front
   // of a staircase that starts 1 m ahead, that is before the stairs; with the staircase 10 m behind (its end at
   // -10 + 9 x 0.3 + 1 + 9 x 0.3 = -3.6 m) it is beyond them
-  const ai::TrainingTree tree = ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const ai::TrainingTree tree =
+      ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   ai::SkillSpec stairs = *tree.find("stairs");
   stairs.termination.maxTiltDegrees = 0.01;
   stairs.terrain.topDepth = 1.0;
   ai::CardRun run{stairs.card, 1, 1};
   run.card.episodes = 2;
   run.card.driven()->episodeSeconds = 1.0;
-  const ai::PolicyFn zero = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { act->setZero(robot::kActionSize, obs.cols()); };
+  const ai::PolicyFn zero = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) {
+    act->setZero(robot::kActionSize, obs.cols());
+  };
   auto where = [&](double startX) {
     stairs.terrain.startX = startX;
     for (const ai::CardFigure& f : ai::runVelocityCard(fixtures::robotModel(), stairs, zero, run).figures)
@@ -58,7 +64,8 @@ TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
     return std::string("no breakdown");
   };
   EXPECT_NE(where(1.0).find("before the stairs 2, up 0, landing 0, down 0, beyond 0"), std::string::npos) << where(1.0);
-  EXPECT_NE(where(-10.0).find("before the stairs 0, up 0, landing 0, down 0, beyond 2"), std::string::npos) << where(-10.0);
+  EXPECT_NE(where(-10.0).find("before the stairs 0, up 0, landing 0, down 0, beyond 2"), std::string::npos)
+      << where(-10.0);
   // no episode reached the way down, so the card gives no heading there (rather than a 0 that reads as squared up)
   stairs.terrain.startX = 1.0;
   for (const ai::CardFigure& f : ai::runVelocityCard(fixtures::robotModel(), stairs, zero, run).figures)
@@ -68,7 +75,8 @@ TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
 TEST(VelocityCard, AStairsCardThatSteersSquaresTheRobotUpToTheStairs) {
   // the shipped stairs model, 4 episodes each turned up to 0.2 rad (11.5 deg) at the start: unsteered it keeps
   // roughly that heading (no turn is asked), steered with play's heading-hold law it faces the stairs by the top
-  const ai::TrainingTree tree = ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
+  const ai::TrainingTree tree =
+      ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   const ai::SkillSpec stairs = *tree.find("stairs");
   const ai::LoadedPolicy model = ai::loadPolicyOnnx(fixtures::kSource + "/assets/skills/stairs.onnx");
   const ai::PolicyFn policy = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { model.act(obs, act); };

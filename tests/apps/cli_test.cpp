@@ -51,7 +51,8 @@ std::map<std::string, std::pair<size_t, fs::file_time_type>> snapshot(const std:
   std::map<std::string, std::pair<size_t, fs::file_time_type>> files;
   for (const auto& f : fs::recursive_directory_iterator(dir))
     if (f.is_regular_file())
-      files[fs::relative(f.path(), dir).string()] = {std::hash<std::string>()(engine::readFile(f.path())), f.last_write_time()};
+      files[fs::relative(f.path(), dir).string()] = {std::hash<std::string>()(engine::readFile(f.path())),
+                                                     f.last_write_time()};
   return files;
 }
 
@@ -78,7 +79,8 @@ std::string squatTree(const std::string& name, int episodes, const std::pair<std
 std::string squatRun(const std::string& parent) {
   const std::string run = parent + "/run";
   fs::create_directories(run);
-  for (const char* f : {"squat.onnx", "squat.policy.bin"}) fs::copy_file(kSource + "/assets/skills/" + f, run + "/" + f);
+  for (const char* f : {"squat.onnx", "squat.policy.bin"})
+    fs::copy_file(kSource + "/assets/skills/" + f, run + "/" + f);
   return run;
 }
 
@@ -87,7 +89,8 @@ std::string squatRun(const std::string& parent) {
 TEST(Cli, HelpListsTheCommands) {
   const CliRun r = run("--help");
   EXPECT_EQ(r.code, 0);
-  for (const char* c : {"play", "replay", "bench", "train", "eval", "ship", "tree"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
+  for (const char* c : {"play", "replay", "bench", "train", "eval", "ship", "tree"})
+    EXPECT_NE(r.out.find(c), std::string::npos) << c;
 }
 
 TEST(Cli, FlatSquareScriptStaysAlive) {
@@ -111,7 +114,7 @@ TEST(Cli, KeyZeroWhileLyingStandsUpAndTheWalkGoesOn) {
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("walk->prone"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("prone->standup at 7.50 s"), std::string::npos) << r.out;  // the key's tick: lying, at once
-  EXPECT_NE(r.out.find("standup->walk at 12."), std::string::npos) << r.out;       // standing ~4.6-5 s later
+  EXPECT_NE(r.out.find("standup->walk at 12."), std::string::npos) << r.out;      // standing ~4.6-5 s later
   EXPECT_NE(r.out.find("requested keys: 0, 7"), std::string::npos) << r.out;
 }
 
@@ -156,8 +159,11 @@ TEST(Cli, TheShippedScriptWinsTheMarioCourse) {
   const size_t at = r.out.find("switch     walk->run at");
   ASSERT_NE(at, std::string::npos) << r.out;
   double t = 0, before = 0, after = 0, peak = 0;
-  ASSERT_EQ(std::sscanf(r.out.c_str() + at, "switch     walk->run at %lf s: forward speed %lf -> %lf m/s, peak acceleration %lf",
-                        &t, &before, &after, &peak), 4) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at,
+                        "switch     walk->run at %lf s: forward speed %lf -> %lf m/s, peak acceleration %lf", &t,
+                        &before, &after, &peak),
+            4)
+      << r.out;
   EXPECT_NEAR(before, 0.8, 0.1);
   EXPECT_GE(after, 1.8);
   EXPECT_LE(peak, 5.0);
@@ -192,9 +198,9 @@ TEST(Cli, TheStepsTourEndsAliveThroughEveryShippedStage) {
   // stand-up, and the walk again at the end, without a fall (at seed 1; 50 of seeds 1-60 end alive, the stairs fall)
   const CliRun r = run("play levels/steps --keys tour.keys --expect alive");
   EXPECT_EQ(r.code, 0) << r.out;
-  for (const char* stage : {"walk->run at", "run->walk at", "walk->squat at", "squat->jump at", "jump->squat at",
-                            "squat->walk at", "walk->stairs at", "walk->prone at",
-                            "prone->crawl at", "crawl->standup at", "standup->walk at"})
+  for (const char* stage :
+       {"walk->run at", "run->walk at", "walk->squat at", "squat->jump at", "jump->squat at", "squat->walk at",
+        "walk->stairs at", "walk->prone at", "prone->crawl at", "crawl->standup at", "standup->walk at"})
     EXPECT_NE(r.out.find(stage), std::string::npos) << stage << "\n" << r.out;
 }
 
@@ -213,7 +219,9 @@ TEST(Cli, TheCommittedMarioReplayVerifies) {
   // code changed the run, it names the first tick that differs
   const CliRun r = run("replay levels/mario/win.replay --verify");
   EXPECT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("identical: 253 state hashes over 12650 ticks match (the recording is 12663 ticks)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("identical: 253 state hashes over 12650 ticks match (the recording is 12663 ticks)"),
+            std::string::npos)
+      << r.out;
 }
 
 TEST(Cli, KeySixKicksTheBallIntoTheGoalFromAStandingStart) {
@@ -226,7 +234,8 @@ TEST(Cli, KeySixKicksTheBallIntoTheGoalFromAStandingStart) {
 }
 
 TEST(Cli, FromJumpsInARowTheSquatTakesOverOnceTheRobotHasStopped) {
-  // the squat asked for mid-jump waits for the cycle's closing stand and for the drift to stop (robot::cycleAllowsSwitch)
+  // the squat asked for mid-jump waits for the cycle's closing stand and for the drift to stop
+  // (robot::cycleAllowsSwitch)
   const CliRun r = run("play levels/flat --keys jump_squat.keys --seconds 9 --expect alive");
   EXPECT_EQ(r.code, 0) << r.out;
   // the jump from 0.50 s, 1.6 s cycles: the second cycle's closing stand (its default pose) runs from 3.30 s to 4.10 s;
@@ -289,8 +298,8 @@ TEST(Cli, ExpectWinOnALevelWithoutGoalIsAnError) {
 
 TEST(Cli, RecordedReplayVerifiesIdentical) {
   const std::string d = tempDir("replay");
-  const CliRun rec = run("play levels/steps --keys " + kSource + "/levels/flat/square.keys --seconds 4 --seed 11 --record " +
-                      d + "/run.replay");
+  const CliRun rec = run("play levels/steps --keys " + kSource +
+                         "/levels/flat/square.keys --seconds 4 --seed 11 --record " + d + "/run.replay");
   ASSERT_EQ(rec.code, 0) << rec.out;
   const CliRun ver = run("replay " + d + "/run.replay --verify");
   EXPECT_EQ(ver.code, 0) << ver.out;
@@ -301,13 +310,16 @@ TEST(Cli, AReplaysKeysWrittenOutPlayTheSameRunAgain) {
   // replay --keys-out: the recorded events and seed as a key script; played, it records the same replay byte for byte
   const std::string d = tempDir("keysout");
   ASSERT_EQ(run("play levels/steps --keys " + kSource + "/levels/flat/square.keys --seconds 4 --seed 11 --record " + d +
-                "/first.replay").code, 0);
+                "/first.replay")
+                .code,
+            0);
   const CliRun out = run("replay " + d + "/first.replay --keys-out " + d + "/keys/first.keys");
   ASSERT_EQ(out.code, 0) << out.out;
   EXPECT_NE(out.out.find("seed 11)"), std::string::npos) << out.out;
   const std::string keys = engine::readFile(d + "/keys/first.keys");
   EXPECT_NE(keys.find("\nseed 11\n0.00 tap 0\n0.50 down W\n"), std::string::npos) << keys;
-  const CliRun again = run("play levels/steps --keys " + d + "/keys/first.keys --seconds 4 --record " + d + "/again.replay");
+  const CliRun again =
+      run("play levels/steps --keys " + d + "/keys/first.keys --seconds 4 --record " + d + "/again.replay");
   ASSERT_EQ(again.code, 0) << again.out;
   EXPECT_EQ(engine::readFile(d + "/again.replay"), engine::readFile(d + "/first.replay"));
 }
@@ -340,7 +352,8 @@ TEST(Cli, TheLogSaysWhereTheWeightIsBetweenTheFeet) {
   const CliRun r = run("play levels/steps --seconds 1 --log " + d + "/com.csv");
   ASSERT_EQ(r.code, 0) << r.out;
   const std::string csv = engine::readFile(d + "/com.csv");
-  ASSERT_EQ(csv.substr(0, csv.find('\n')), "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s,com_y_m,yaw_rad,com_left_of_feet_m");
+  ASSERT_EQ(csv.substr(0, csv.find('\n')),
+            "t_s,skill,com_x_m,com_z_m,com_vx_m_per_s,com_y_m,yaw_rad,com_left_of_feet_m");
   // the robot stands where it spawned (levels/steps: y = 2.3 facing +X) on its symmetric stance: the centre of mass
   // is at y 2.3 and between the feet
   const size_t row = csv.find("\n0.50,stand,");
@@ -350,16 +363,16 @@ TEST(Cli, TheLogSaysWhereTheWeightIsBetweenTheFeet) {
   std::string field;
   for (int i = 0; std::getline(line, field, ','); ++i)
     if (i >= 2) v.push_back(std::stod(field));  // after "t,skill,"
-  ASSERT_EQ(v.size(), 6u);  // x, height, forward speed, y, heading, left of the feet
-  EXPECT_LT(std::abs(v[4]), 0.01);          // still facing +X
-  EXPECT_NEAR(v[3], 2.3, 0.02);             // y across the course
-  EXPECT_LT(std::abs(v[5]), 0.02);          // measured from the feet, not the course (the sign: RewardTerms.WeightCentred*)
+  ASSERT_EQ(v.size(), 6u);                      // x, height, forward speed, y, heading, left of the feet
+  EXPECT_LT(std::abs(v[4]), 0.01);              // still facing +X
+  EXPECT_NEAR(v[3], 2.3, 0.02);                 // y across the course
+  EXPECT_LT(std::abs(v[5]), 0.02);  // measured from the feet, not the course (the sign: RewardTerms.WeightCentred*)
 }
 
 TEST(Cli, FramesAndVideoAreWritten) {
   const std::string d = tempDir("frames");
-  const CliRun r = run("play levels/steps --seconds 0.5 --fps 20 --frames " + d + "/png --video " + d + "/v.mp4 --summary " +
-                    d + "/summary.txt");
+  const CliRun r = run("play levels/steps --seconds 0.5 --fps 20 --frames " + d + "/png --video " + d +
+                       "/v.mp4 --summary " + d + "/summary.txt");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(fs::exists(d + "/png/frame_000000.png"));
   EXPECT_TRUE(fs::exists(d + "/png/frame_000010.png"));  // 0.5 s at 20 fps: frames 0..10
@@ -400,8 +413,10 @@ TEST(Cli, EvalConfirmScoresACandidateAgainOnOtherEpisodes) {
   // the first evaluation beats nothing confirmed yet, so it is run again on 2 other episodes, and that card's score
   // is the one logged and kept with best.bin
   const std::string d = tempDir("confirm");
-  const CliRun r = run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 1 --eval-episodes 1 --eval-confirm 2 "
-                       "--run-dir " + d + "/run");
+  const CliRun r =
+      run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 1 --eval-episodes 1 --eval-confirm 2 "
+          "--run-dir " +
+          d + "/run");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("(1-episode card"), std::string::npos) << r.out;
   const size_t at = r.out.find("  confirm: ");
@@ -421,8 +436,7 @@ TEST(Cli, AResumedRunConfirmsExactlyWhenTheUninterruptedRunDoes) {
   ASSERT_EQ(run(args + " --steps 20480 --run-dir " + d + "/b").code, 0);
   const CliRun resumed = run(args + " --steps 40960 --resume --run-dir " + d + "/b");
   ASSERT_EQ(resumed.code, 0) << resumed.out;
-  for (const CliRun* c : {&straight, &resumed})
-    ASSERT_NE(c->out.find("iter 2/"), std::string::npos) << c->out;
+  for (const CliRun* c : {&straight, &resumed}) ASSERT_NE(c->out.find("iter 2/"), std::string::npos) << c->out;
   auto secondIteration = [](const std::string& out) {  // the card lines printed before "iter 2/" (after "iter 1/")
     size_t from = out.find("iter 1/");
     if (from == std::string::npos) from = 0;  // the resumed run starts at the second iteration
@@ -434,7 +448,9 @@ TEST(Cli, AResumedRunConfirmsExactlyWhenTheUninterruptedRunDoes) {
   };
   const std::string expected = secondIteration(straight.out);
   EXPECT_NE(expected.find("  eval: "), std::string::npos) << straight.out;
-  EXPECT_EQ(expected.find("  confirm: "), std::string::npos) << "seed 2's second card now confirms: pick a seed where it does not\n" << straight.out;
+  EXPECT_EQ(expected.find("  confirm: "), std::string::npos)
+      << "seed 2's second card now confirms: pick a seed where it does not\n"
+      << straight.out;
   EXPECT_EQ(secondIteration(resumed.out), expected) << resumed.out;
 }
 
@@ -446,13 +462,16 @@ TEST(Cli, TrainingABranchStartsFromItsParentAndWritesOnlyIntoItsRunFolder) {
   fs::copy(kSource + "/assets/skills", models, fs::copy_options::recursive);
   const auto before = snapshot(models);
   ASSERT_TRUE(fs::exists(models + "/walk.policy.bin"));
-  const CliRun r = run("--tree " + models + "/tree.toml train run --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d + "/run");
+  const CliRun r =
+      run("--tree " + models + "/tree.toml train run --steps 20480 --envs 4 --threads 2 --eval-every 0 --run-dir " + d +
+          "/run");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("initialised from parent 'walk' (" + models + "/walk.policy.bin)"), std::string::npos) << r.out;
   EXPECT_TRUE(snapshot(models) == before) << "training changed or added files in the tree's folder";
   EXPECT_TRUE(fs::exists(d + "/run/run.onnx"));
   EXPECT_TRUE(fs::exists(d + "/run/run.policy.bin"));
-  EXPECT_NE(r.out.find("treelearn --tree " + models + "/tree.toml ship run --from " + d + "/run"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("treelearn --tree " + models + "/tree.toml ship run --from " + d + "/run"), std::string::npos)
+      << r.out;
 }
 
 TEST(Cli, TrainAndExportLeaveTheShippedModelsUntouched) {
@@ -473,7 +492,8 @@ TEST(Cli, TheExportedPolicyFileRecordsStepsIterationAndCardScore) {
   // RUN/SKILL.policy.bin says where its policy came from, as best.bin does: the best by the training card, with
   // its score; --export-from last: the checkpoint's iteration and steps, and no score (it was not judged)
   const std::string d = tempDir("policy_info");
-  const CliRun r = run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 1 --eval-episodes 1 --run-dir " + d + "/run");
+  const CliRun r =
+      run("train walk --steps 20480 --envs 4 --threads 2 --eval-every 1 --eval-episodes 1 --run-dir " + d + "/run");
   ASSERT_EQ(r.code, 0) << r.out;
   ai::PolicyInfo best, exported;
   ai::loadPolicyState(d + "/run/best.bin", &best);
@@ -557,12 +577,14 @@ TEST(Cli, ShipRejectsAMissingRunAMissingModelAndAnotherSkillsModel) {
   fs::create_directories(d + "/empty");
   const CliRun empty = run(ship + d + "/empty");
   EXPECT_EQ(empty.code, 2) << empty.out;
-  EXPECT_NE(empty.out.find("the run folder holds no model of 'squat' (train exports it"), std::string::npos) << empty.out;
+  EXPECT_NE(empty.out.find("the run folder holds no model of 'squat' (train exports it"), std::string::npos)
+      << empty.out;
   fs::create_directories(d + "/walk_run");  // a run of the walk, shipped as the squat
   fs::copy_file(kSource + "/assets/skills/walk.onnx", d + "/walk_run/walk.onnx");
   const CliRun other = run(ship + d + "/walk_run");
   EXPECT_EQ(other.code, 2) << other.out;
-  EXPECT_NE(other.out.find("holds no model of 'squat' but walk.onnx: a run of another skill?"), std::string::npos) << other.out;
+  EXPECT_NE(other.out.find("holds no model of 'squat' but walk.onnx: a run of another skill?"), std::string::npos)
+      << other.out;
   fs::create_directories(d + "/renamed");  // the walk's files under the squat's names
   fs::copy_file(kSource + "/assets/skills/walk.onnx", d + "/renamed/squat.onnx");
   fs::copy_file(kSource + "/assets/skills/walk.policy.bin", d + "/renamed/squat.policy.bin");
@@ -593,7 +615,8 @@ TEST(Cli, AResumeAtOrPastTheStepsSaysNothingWasTrained) {
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_EQ(r.out.find("iter "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("already at 20480 env steps (iteration 1), at or past --steps 20480: nothing was trained"),
-            std::string::npos) << r.out;
+            std::string::npos)
+      << r.out;
 }
 
 TEST(Cli, AKeyWhoseSkillHasNoModelIsNamedInTheSummary) {
@@ -606,7 +629,8 @@ TEST(Cli, AKeyWhoseSkillHasNoModelIsNamedInTheSummary) {
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("used: none (standing controller); requested keys: 2"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("missing    key 2 (stairs): no model at " + d + "/stairs.onnx, so the key did nothing"),
-            std::string::npos) << r.out;
+            std::string::npos)
+      << r.out;
   EXPECT_EQ(r.out.find("key 0 (walk)"), std::string::npos) << r.out;  // not requested, and its model is there
 }
 
@@ -703,7 +727,8 @@ TEST(Cli, SampledCardDrawsSeededActionsAndLeavesTheRecordAlone) {
 TEST(Cli, BranchInitialisationOptionsAreRefusedWhereTheyWouldDoNothing) {
   const CliRun resume = run("train squat --resume --zero-output --run-dir " + tempDir("zero_resume"));
   EXPECT_EQ(resume.code, 2) << resume.out;
-  EXPECT_NE(resume.out.find("--zero-output is a branch's initialisation from its parent: not with --resume"), std::string::npos)
+  EXPECT_NE(resume.out.find("--zero-output is a branch's initialisation from its parent: not with --resume"),
+            std::string::npos)
       << resume.out;
   const CliRun root = run("train walk --init-log-std -2 --steps 10 --run-dir " + tempDir("zero_root"));
   EXPECT_EQ(root.code, 2) << root.out;

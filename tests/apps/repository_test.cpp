@@ -116,3 +116,19 @@ TEST(Repository, NoLargeFilesOutsideTheListedOnes) {
                     << " MB), over 5 MB and not listed in assets/large_files.txt";
   }
 }
+
+// every tracked C++ file is as .clang-format writes it (Google base, 120 columns): `clang-format -i FILE` fixes one
+TEST(Repository, CodeFollowsTheClangFormatStyle) {
+  const std::vector<std::string> files = trackedFiles();
+  if (files.empty()) GTEST_SKIP() << kSource << " is not a git checkout";
+  bool ok = false;
+  capture("clang-format --version >/dev/null 2>&1", &ok);
+  if (!ok) GTEST_SKIP() << "clang-format is not installed (scripts/setup.sh installs it)";
+  std::string list;
+  for (const std::string& f : files)
+    if (f.size() > 4 && (f.compare(f.size() - 4, 4, ".cpp") == 0 || f.compare(f.size() - 2, 2, ".h") == 0))
+      list += " '" + f + "'";
+  const std::string out =
+      capture("cd '" + kSource + "' && clang-format --dry-run" + list + " 2>&1 | grep 'warning:' | head -20", &ok);
+  EXPECT_EQ(out, "") << "not formatted (run clang-format -i on these files):\n" << out;
+}

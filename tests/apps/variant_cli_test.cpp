@@ -46,7 +46,8 @@ TEST(VariantCli, TheSameSeedWritesTheSameFileAndAnotherSeedAnother) {
   const std::string d = tempDir("files");
   const CliRun a = run("variant levels/mario --seed 3 --out " + d + "/a");
   ASSERT_EQ(a.code, 0) << a.out;
-  EXPECT_NE(a.out.find("variant    " + d + "/a/level.toml (seed 3 of levels/mario/level.toml): "), std::string::npos) << a.out;
+  EXPECT_NE(a.out.find("variant    " + d + "/a/level.toml (seed 3 of levels/mario/level.toml): "), std::string::npos)
+      << a.out;
   ASSERT_EQ(run("variant levels/mario --seed 3 --out " + d + "/b").code, 0);
   ASSERT_EQ(run("variant levels/mario --seed 4 --out " + d + "/c").code, 0);
   const std::string fa = engine::readFile(d + "/a/level.toml");
@@ -63,7 +64,8 @@ TEST(VariantCli, ALevelThatIsNotAMarioCourseIsAnErrorAndWritesNothing) {
   const std::string d = tempDir("refused");
   const CliRun r = run("variant levels/flat --seed 1 --out " + d + "/v");
   EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_NE(r.out.find("error: levels/flat/level.toml: a variant needs a Mario-style course"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("error: levels/flat/level.toml: a variant needs a Mario-style course"), std::string::npos)
+      << r.out;
   EXPECT_FALSE(fs::exists(d + "/v/level.toml"));
   const CliRun noSeed = run("variant levels/mario --out " + d + "/v");
   EXPECT_EQ(noSeed.code, 2) << noSeed.out;
@@ -82,7 +84,8 @@ TEST(VariantCli, TwoVariantsArePlayedByTheAutopilotToAnEnd) {
     EXPECT_EQ(r.code, 0) << r.out;
     const std::string summary = engine::readFile(dir + "/summary.txt");
     EXPECT_NE(summary.find(std::string("level      mario-variant-") + seed), std::string::npos) << summary;
-    const bool ended = summary.find("outcome    won (") != std::string::npos || summary.find("outcome    lost (") != std::string::npos;
+    const bool ended =
+        summary.find("outcome    won (") != std::string::npos || summary.find("outcome    lost (") != std::string::npos;
     EXPECT_TRUE(ended) << summary;
     EXPECT_NE(summary.find("state hash "), std::string::npos) << summary;
   }

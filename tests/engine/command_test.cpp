@@ -1,8 +1,8 @@
 // command_test.cpp — CommandInput: ramps, the one-axis interlock at exact ticks, release, taps,
 // skill requests and the amplitude clamp. Expected values are worked out by hand in the comments.
-#include <gtest/gtest.h>
-
 #include "engine/input/command.h"
+
+#include <gtest/gtest.h>
 
 namespace engine {
 namespace {
@@ -32,10 +32,10 @@ TEST(CommandInput, HoldingWRampsVxBy0_02PerTickAndSaturatesAt1_2AfterSixtyTicks)
   run(input, 9);
   // 10 x 0.02 = 0.2; ten repeated additions of 0.02 land within an ulp of 0.2 (0.19999999999999998).
   EXPECT_DOUBLE_EQ(input.state().vx, 0.2);
-  run(input, 49);                    // 59 ticks: 1.18, still below the target
+  run(input, 49);  // 59 ticks: 1.18, still below the target
   EXPECT_LT(input.state().vx, 1.2);
   EXPECT_NEAR(input.state().vx, 1.18, 1e-12);
-  input.tick();                      // 60 ticks: 1.2 / 0.02 = 60, lands exactly on the target
+  input.tick();  // 60 ticks: 1.2 / 0.02 = 60, lands exactly on the target
   EXPECT_EQ(input.state().vx, 1.2);
   run(input, 40);
   EXPECT_EQ(input.state().vx, 1.2);

@@ -1,5 +1,7 @@
 // key_script_test.cpp — key-script parsing: the documented example, comments, every error with its
 // line number, and random bytes (must always be rejected cleanly, never crash).
+#include "engine/input/key_script.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -7,7 +9,6 @@
 
 #include "engine/core/error.h"
 #include "engine/input/input_timeline.h"
-#include "engine/input/key_script.h"
 
 namespace engine {
 namespace {
@@ -167,8 +168,11 @@ TEST(KeyScript, RandomBytesAlwaysThrowErrorAndNeverCrash) {
 }
 
 TEST(KeyScript, AWrittenScriptReadsBackAsTheSameEventsAndSeed) {
-  const std::vector<KeyEvent> events = {{0, KeyAction::kTap, '0'}, {50, KeyAction::kDown, 'W'}, {698, KeyAction::kTap, '1'},
-                                        {1318, KeyAction::kUp, 'W'}, {8640000, KeyAction::kTap, 'F'}};
+  const std::vector<KeyEvent> events = {{0, KeyAction::kTap, '0'},
+                                        {50, KeyAction::kDown, 'W'},
+                                        {698, KeyAction::kTap, '1'},
+                                        {1318, KeyAction::kUp, 'W'},
+                                        {8640000, KeyAction::kTap, 'F'}};
   const std::string text = formatKeyScript(events, 26, "recorded by the autopilot\nat seed 26");
   EXPECT_EQ(text.substr(0, 60), "# recorded by the autopilot\n# at seed 26\nseed 26\n0.00 tap 0\n");
   EXPECT_NE(text.find("\n6.98 tap 1\n13.18 up W\n86400.00 tap F\n"), std::string::npos) << text;

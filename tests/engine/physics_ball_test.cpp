@@ -26,8 +26,8 @@ TEST(PhysicsBall, AKickedBallRollsForwardAndSlowsDown) {
   world.setBallState(ball, s);
   for (int i = 0; i < 500; ++i) world.step(0.002);  // 1 s
   s = world.ballState(ball);
-  EXPECT_GT(s.position.x(), 1.5);   // it rolled on (sliding friction turns some speed into spin)
-  EXPECT_LT(s.position.x(), 3.0);   // but never faster than it was kicked
+  EXPECT_GT(s.position.x(), 1.5);  // it rolled on (sliding friction turns some speed into spin)
+  EXPECT_LT(s.position.x(), 3.0);  // but never faster than it was kicked
   EXPECT_LT(s.velocity.x(), 3.0);
   EXPECT_GT(s.velocity.x(), 0.5);
   EXPECT_NEAR(s.position.y(), 0.0, 1e-6);

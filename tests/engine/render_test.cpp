@@ -1,13 +1,6 @@
 // render_test.cpp — camera orientation, rendered pixels at projected positions, HUD, PNG and MP4 output.
 // Renders small off-screen frames with OSMesa; the video test is skipped when ffmpeg is not installed.
-#include "engine/core/error.h"
-#include "engine/render/camera.h"
-#include "engine/render/png_writer.h"
-#include "engine/render/renderer.h"
-#include "engine/render/video_writer.h"
-
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cmath>
@@ -17,6 +10,12 @@
 #include <iterator>
 #include <string>
 #include <vector>
+
+#include "engine/core/error.h"
+#include "engine/render/camera.h"
+#include "engine/render/png_writer.h"
+#include "engine/render/renderer.h"
+#include "engine/render/video_writer.h"
 
 namespace engine {
 namespace {
@@ -147,7 +146,7 @@ TEST(Renderer, ImageIsTopDownWithSkyAboveGround) {
   renderer.render(redBallScene(CameraMode::Side));
   const Pixel top = pixelAt(renderer, 160, 2);
   const Pixel bottom = pixelAt(renderer, 160, 177);
-  EXPECT_GT(top.b, top.r + 40);                   // sky blue
+  EXPECT_GT(top.b, top.r + 40);                  // sky blue
   EXPECT_LT(std::abs(bottom.r - bottom.b), 20);  // grey ground
 }
 

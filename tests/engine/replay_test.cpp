@@ -1,5 +1,7 @@
 // replay_test.cpp — replay text format: round trip, save/load, truncation at every byte, random and
 // single-byte-corrupted input (always engine::Error, never a crash), and each structural error's line.
+#include "engine/replay/replay.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -9,7 +11,6 @@
 
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
-#include "engine/replay/replay.h"
 
 namespace engine {
 namespace {
@@ -23,7 +24,7 @@ Replay sampleReplay() {
   r.seed = 42;
   r.ticks = 6000;
   r.hashEvery = 50;
-  r.events = {{0, KeyAction::kTap, '0'}, {50, KeyAction::kDown, 'W'}, {620, KeyAction::kUp, 'W'},
+  r.events = {{0, KeyAction::kTap, '0'},   {50, KeyAction::kDown, 'W'},  {620, KeyAction::kUp, 'W'},
               {620, KeyAction::kTap, '1'}, {700, KeyAction::kDown, 'R'}, {5999, KeyAction::kUp, 'R'}};
   for (int64_t t = 50; t <= 300; t += 50) r.states.push_back({t, 0x1000000000000000ull + static_cast<uint64_t>(t)});
   return r;

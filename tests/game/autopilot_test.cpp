@@ -21,7 +21,9 @@ game::SkillKeys shippedKeys() {
 std::string keys(const std::vector<engine::KeyEvent>& ev) {
   std::string s;
   for (const engine::KeyEvent& e : ev)
-    s += std::string(e.action == engine::KeyAction::kTap ? "tap " : e.action == engine::KeyAction::kDown ? "down " : "up ") +
+    s += std::string(e.action == engine::KeyAction::kTap    ? "tap "
+                     : e.action == engine::KeyAction::kDown ? "down "
+                                                            : "up ") +
          e.key + ";";
   return s;
 }
@@ -186,8 +188,8 @@ TEST(Autopilot, LinesUpWithTheBallThenStepsUpToItAndKicks) {
   EXPECT_EQ(keys(a.decide(1, c)), "up W;");
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
   c.speed = 0, c.commandVx = 0;
-  EXPECT_EQ(keys(a.decide(2, c)), "");    // at rest ...
-  EXPECT_EQ(keys(a.decide(50, c)), "");   // ... settled
+  EXPECT_EQ(keys(a.decide(2, c)), "");           // at rest ...
+  EXPECT_EQ(keys(a.decide(50, c)), "");          // ... settled
   EXPECT_EQ(keys(a.decide(100, c)), "down D;");  // facing left of +X: turn right
   c.yaw = 0.01, c.commandWz = -0.1;
   EXPECT_EQ(keys(a.decide(110, c)), "up D;");
@@ -224,7 +226,8 @@ TEST(Autopilot, KicksAfterSevenSecondsIfTheOneLegStandNeverTookOver) {
   const int64_t start = t;
   for (; a.mode() == game::Autopilot::Mode::Balance && t < start + 1000; ++t) a.decide(t, c);
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Kick);
-  EXPECT_EQ(t - start, 701);  // the kick at the first tick more than 700 ticks (7 s) after the key (t stops one past it)
+  EXPECT_EQ(t - start,
+            701);  // the kick at the first tick more than 700 ticks (7 s) after the key (t stops one past it)
 }
 
 TEST(Autopilot, KicksOnlyFromTheCardsSpot) {
@@ -238,7 +241,8 @@ TEST(Autopilot, KicksOnlyFromTheCardsSpot) {
   auto until = [&](game::Autopilot::Mode m) { return decideUntil(a, c, &t, m); };
   a.decide(t++, c);
   EXPECT_EQ(until(game::Autopilot::Mode::Approach), "");  // nothing to turn or step
-  c.ballAhead = 0.32, c.y = 0.1;  // there, but 0.1 m left of the line-up (a side step that overshot, a ball that rolled)
+  c.ballAhead = 0.32,
+  c.y = 0.1;  // there, but 0.1 m left of the line-up (a side step that overshot, a ball that rolled)
   EXPECT_EQ(keys(a.decide(t++, c)), "");
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
   c.y = 0.0;  // back on the line
@@ -330,7 +334,8 @@ TEST(Autopilot, ABallAgainstTheLeftWallIsPushedOnWithTheLeftFootInsteadOfKicked)
   a.decide(t++, c);
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Walk);
 
-  game::Autopilot b(shippedKeys());  // 0.24 m nearer the middle: the kick's line-up, the ball 0.10 m right of the pelvis at 0.75
+  game::Autopilot b(
+      shippedKeys());  // 0.24 m nearer the middle: the kick's line-up, the ball 0.10 m right of the pelvis at 0.75
   b.decide(0, {});
   c = {};
   c.ballAhead = 0.75, c.ballY = 0.65, c.y = 0.75;

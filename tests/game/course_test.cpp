@@ -123,7 +123,7 @@ TEST(Course, AFallBackBeforeWhereTheGhostWokePutsItToSleepUntilThenAgain) {
   w.step(0.0, 0.78, 0, {});
   EXPECT_LT(w.course.ghostDistance(), 0);  // asleep: no ghost ...
   const engine::RayHit h = w.plane.rayCast({-5.0, 0.8}, {3.0, 0.8});
-  EXPECT_FALSE(h.hit);                     // ... and nothing left where it was for the autopilot's rays to meet
+  EXPECT_FALSE(h.hit);  // ... and nothing left where it was for the autopilot's rays to meet
   for (int i = 0; i < 300; ++i) w.step(2.0, 0.78, 0, {});
   EXPECT_EQ(w.course.outcome(), game::Outcome::Playing);
   w.step(3.0, 0.78, 0, {});  // past appear_x again: 2 m behind, at its first speed

@@ -1,5 +1,7 @@
 // garden_pilot_test.cpp — the garden pilot's key scheme (stop, turn in place, go with W, back), its target list
 // format, the random targets, and what a map level puts into its 2D layer (stairs tags, balls as moving circles).
+#include "game/garden_pilot.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include "engine/core/error.h"
 #include "engine/plane/plane_tags.h"
 #include "engine/plane/plane_world.h"
-#include "game/garden_pilot.h"
 #include "game/nav/occupancy_grid.h"
 #include "game/session.h"
 #include "levels/level.h"
@@ -28,7 +29,10 @@ game::SkillKeys keys() {
 std::string text(const std::vector<engine::KeyEvent>& events) {
   std::string s;
   for (const engine::KeyEvent& e : events)
-    s += std::string(e.action == engine::KeyAction::kDown ? "+" : e.action == engine::KeyAction::kUp ? "-" : "*") + e.key;
+    s += std::string(e.action == engine::KeyAction::kDown ? "+"
+                     : e.action == engine::KeyAction::kUp ? "-"
+                                                          : "*") +
+         e.key;
   return s;
 }
 

@@ -67,7 +67,7 @@ TEST(Course, FallsSlowerThanTheLoopWindowGoOnRespawning) {
 TEST(Course, PassingANewCheckpointStartsItsOwnCountOfFalls) {
   World w;
   for (int64_t tick : {0, 100, 200, 300}) EXPECT_TRUE(w.course.onFall(tick));  // four at the spawn
-  w.at(350, 10.5);                                                              // past the checkpoint at 10
+  w.at(350, 10.5);                                                             // past the checkpoint at 10
   EXPECT_DOUBLE_EQ(w.course.respawnX(), 10.0);
   for (int64_t tick : {400, 500, 600, 700}) EXPECT_TRUE(w.course.onFall(tick)) << tick;  // four at x = 10
   EXPECT_FALSE(w.course.onFall(800));                                                    // the fifth there

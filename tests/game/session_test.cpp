@@ -3,12 +3,11 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/fixtures.h"
-
 #include "engine/core/file_io.h"
 #include "engine/core/hash.h"
 #include "engine/input/key_script.h"
 #include "game/play.h"
+#include "tests/fixtures.h"
 
 namespace {
 

@@ -186,14 +186,15 @@ TEST(Session, AStillSkillWaitsUntilTheCommandHasRampedToZeroAndTheRobotRests) {
   s.step({{key, engine::KeyAction::kTap, '3'}});
   while (s.activeSkillName() != "squat" && s.tick() < key + 300) s.step({});
   ASSERT_EQ(s.activeSkillName(), "squat");
-  EXPECT_NEAR(double(s.telemetry().switches.back().tick - key), 60.0, 1.0);  // 61 if 1.2 - 60 x 0.02 leaves a rounding crumb
+  EXPECT_NEAR(double(s.telemetry().switches.back().tick - key), 60.0,
+              1.0);  // 61 if 1.2 - 60 x 0.02 leaves a rounding crumb
 }
 
 TEST(Session, ASlowerSkillTakesOverOnceTheCommandHasRampedToItsTopSpeed) {
   // run (no gait, zero action: the robot stands) with W held for 1.2 s: vx = 2.2 m/s, the run's top (reached after
-  // 1.1 s). The walk key brakes the run's command at the keys' 0.02 m/s per tick to the walk's top, 1.2 m/s: 50 ticks. The standing
-  // pelvis is within the 0-1.2 m/s both train at but more than kTargetSlack below the command, so the walk takes
-  // over at the longest wait, 250 ticks.
+  // 1.1 s). The walk key brakes the run's command at the keys' 0.02 m/s per tick to the walk's top, 1.2 m/s: 50 ticks.
+  // The standing pelvis is within the 0-1.2 m/s both train at but more than kTargetSlack below the command, so the walk
+  // takes over at the longest wait, 250 ticks.
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   const auto zero = [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); };
@@ -302,15 +303,18 @@ TEST(Session, KeyZeroWhileLyingStandsUpThenWalks) {
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   auto walk = std::make_shared<ai::LoadedPolicy>(ai::loadPolicyOnnx(kSource + "/assets/skills/walk.onnx"));
   robot::SkillSet skills;
-  skills.skills.push_back({*shipped.find("walk"), [walk](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { walk->act(o, a); }});
+  skills.skills.push_back(
+      {*shipped.find("walk"), [walk](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { walk->act(o, a); }});
   for (const char* name : {"prone", "standup"})
-    skills.skills.push_back({*shipped.find(name), [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); }});
+    skills.skills.push_back(
+        {*shipped.find(name), [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); }});
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
   game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &skills});
   s.step(engine::parseKeyScript("0.00 tap 7\n", "k"));
   double pelvisAtWalk = 0, tiltAtWalk = 0;
   for (int i = 1; i < 1000; ++i) {
-    s.step(i == 350 ? std::vector<engine::KeyEvent>{{s.tick(), engine::KeyAction::kTap, '0'}} : std::vector<engine::KeyEvent>{});
+    s.step(i == 350 ? std::vector<engine::KeyEvent>{{s.tick(), engine::KeyAction::kTap, '0'}}
+                    : std::vector<engine::KeyEvent>{});
     if (s.activeSkillName() == "walk" && pelvisAtWalk == 0)
       pelvisAtWalk = s.sensors().basePosition.z(), tiltAtWalk = s.sensors().tilt;
   }
@@ -320,7 +324,8 @@ TEST(Session, KeyZeroWhileLyingStandsUpThenWalks) {
   EXPECT_EQ(sw[1].from + ">" + sw[1].to, "prone>standup");
   EXPECT_EQ(sw[1].tick, 350);  // lying, the way up is taken at once
   EXPECT_EQ(sw[2].from + ">" + sw[2].to, "standup>walk");
-  EXPECT_GT(sw[2].tick - sw[1].tick, 440);  // the keyframes stand the robot up 4.64 s after the switch, settled ~0.2 s later
+  EXPECT_GT(sw[2].tick - sw[1].tick,
+            440);  // the keyframes stand the robot up 4.64 s after the switch, settled ~0.2 s later
   EXPECT_LT(sw[2].tick - sw[1].tick, 550);
   EXPECT_GE(pelvisAtWalk, robot::kStoodPelvisHeight);
   EXPECT_LT(tiltAtWalk, robot::kStoodTiltDegrees * M_PI / 180);
@@ -353,14 +358,16 @@ TEST(Session, AStandUpStillLyingAfterTenSecondsCountsAsAFall) {
 
 TEST(Telemetry, FallsBySkillReadMostFirst) {
   EXPECT_EQ(game::fallsBySkillText({}), "");
-  EXPECT_EQ(game::fallsBySkillText({{"jump", 1}, {"stairs", 3}, {"", 1}, {"kick", 1}}), "stairs 3, no skill 1, jump 1, kick 1");
+  EXPECT_EQ(game::fallsBySkillText({{"jump", 1}, {"stairs", 3}, {"", 1}, {"kick", 1}}),
+            "stairs 3, no skill 1, jump 1, kick 1");
 }
 
 // a fall on a game level respawns the robot at rest: the root skill takes it (as at the level's start) with the
 // velocity commands back at 0, and the skill the keys still ask for is entered from there, as any request is
 TEST(Session, ARespawnHandsTheRobotToTheRootAtRest) {
   const levels::Level mario = levels::loadLevel(kSource + "/levels/mario");
-  const robot::SkillSet skills = tree(4.0f);  // a deep constant crouch: every skill sinks the pelvis below the fall height
+  const robot::SkillSet skills =
+      tree(4.0f);  // a deep constant crouch: every skill sinks the pelvis below the fall height
   game::Session s(mario, fixtures::robotModel(), game::SessionOptions{1, &skills});
   s.step(engine::parseKeyScript("0.00 tap 1\n0.00 down W\n", "k"));  // the run, forward
   while (s.telemetry().respawns.empty() && s.tick() < 500) s.step({});
@@ -384,7 +391,8 @@ TEST(Session, ASkillFromTheDefaultPoseAskedForAtTheSpawnWaitsAHopsTime) {
   const robot::SkillTree shipped = robot::loadSkillTree(kSource + "/assets/skills/tree.toml", fixtures::robotModel());
   robot::SkillSet set;
   for (const char* name : {"walk", "squat", "jump"})
-    set.skills.push_back({*shipped.find(name), [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); }});
+    set.skills.push_back(
+        {*shipped.find(name), [](const Eigen::MatrixXf&, Eigen::MatrixXf* a) { a->setZero(robot::kActionSize, 1); }});
   ASSERT_TRUE(robot::startsFromDefaultPose(set.byName("jump")->def));
   ASSERT_FALSE(robot::startsFromDefaultPose(set.byName("walk")->def));
   const levels::Level flat = levels::loadLevel(kSource + "/levels/flat");
@@ -413,14 +421,17 @@ TEST(Session, ACrawlThatTrainedSteeredIsSteeredBackToItsLineInPlay) {
     crawl.commands.lineSteer = gain;
     double observedWz = 0;
     robot::SkillSet skills;
-    skills.skills.push_back({*shipped.find("walk"), [walk](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { walk->act(o, a); }});
-    skills.skills.push_back({*shipped.find("prone"), [prone](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { prone->act(o, a); }});
+    skills.skills.push_back(
+        {*shipped.find("walk"), [walk](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { walk->act(o, a); }});
+    skills.skills.push_back(
+        {*shipped.find("prone"), [prone](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) { prone->act(o, a); }});
     skills.skills.push_back({crawl, [&](const Eigen::MatrixXf& o, Eigen::MatrixXf* a) {
                                observedWz = o(robot::kObsCommand + 2, 0);
                                a->setZero(robot::kActionSize, 1);
                              }});
     game::Session s(flat, fixtures::robotModel(), game::SessionOptions{1, &skills});
-    s.step(engine::parseKeyScript("0.00 tap 0\n", "k"));  // the walk, then key 9: through prone (the crawl once the robot lies still)
+    s.step(engine::parseKeyScript("0.00 tap 0\n",
+                                  "k"));  // the walk, then key 9: through prone (the crawl once the robot lies still)
     while (s.tick() < 100) s.step({});
     s.step({{s.tick(), engine::KeyAction::kTap, '9'}});
     Eigen::Vector2d start, along;
@@ -431,7 +442,8 @@ TEST(Session, ACrawlThatTrainedSteeredIsSteeredBackToItsLineInPlay) {
       const robot::Sensors before = s.sensors();  // what this tick's command is made from
       const size_t switches = s.telemetry().switches.size();
       const bool pressW = crawlFrom >= 0 && s.tick() == crawlFrom + 10;  // W held from just after the crawl took over
-      s.step(pressW ? std::vector<engine::KeyEvent>{{s.tick(), engine::KeyAction::kDown, 'W'}} : std::vector<engine::KeyEvent>{});
+      s.step(pressW ? std::vector<engine::KeyEvent>{{s.tick(), engine::KeyAction::kDown, 'W'}}
+                    : std::vector<engine::KeyEvent>{});
       if (s.telemetry().switches.size() > switches && s.activeSkillName() == "crawl") {
         start = before.basePosition.head<2>(), along = robot::groundHeading(before), averaged = 0;
         crawlFrom = s.tick();

@@ -1,10 +1,10 @@
 // checkpoint_test.cpp — a checkpoint is where a fall puts the robot back, upright on both feet: the loader refuses
 // one without room to stand (levels::kStandHeight, levels::kStandHalfFootprint: 1.35 m up, 0.3 m around).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "engine/core/error.h"
 #include "levels/level.h"
@@ -14,25 +14,27 @@ namespace {
 // a game level: a tunnel roof over x 5..8 (0.6 to 0.8 m up), one step over x 10..10.6 (0.1 m), a goal far away;
 // `checkpoints` goes on line 4 and `extra` after everything else (from line 20)
 std::string course(const std::string& checkpoints, const std::string& extra = "") {
-  return "name = \"cp\"\n"                                                 // 1
-         "[rules]\n"                                                       // 2
-         "falls = \"respawn\"\n"                                           // 3
-         "checkpoints = " + checkpoints + "\n"                             // 4
-         "[[tunnel]]\n"                                                    // 5
-         "start = 5.0\n"                                                   // 6
-         "length = 3.0\n"                                                  // 7
-         "clearance = 0.6\n"                                               // 8
-         "width = 2.0\n"                                                   // 9
-         "[[stairs]]\n"                                                    // 10
-         "name = \"step\"\n"                                               // 11
-         "start = [10.0, 0.0]\n"                                           // 12
-         "steps = 1\n"                                                     // 13
-         "rise = 0.1\n"                                                    // 14
-         "run = 0.6\n"                                                     // 15
-         "width = 2.0\n"                                                   // 16
-         "[[goal]]\n"                                                      // 17
-         "centre = [30.0, 0.0, 0.6]\n"                                     // 18
-         "size = [1.0, 2.0, 1.2]\n"                                        // 19
+  return "name = \"cp\"\n"        // 1
+         "[rules]\n"              // 2
+         "falls = \"respawn\"\n"  // 3
+         "checkpoints = " +
+         checkpoints +
+         "\n"                           // 4
+         "[[tunnel]]\n"                 // 5
+         "start = 5.0\n"                // 6
+         "length = 3.0\n"               // 7
+         "clearance = 0.6\n"            // 8
+         "width = 2.0\n"                // 9
+         "[[stairs]]\n"                 // 10
+         "name = \"step\"\n"            // 11
+         "start = [10.0, 0.0]\n"        // 12
+         "steps = 1\n"                  // 13
+         "rise = 0.1\n"                 // 14
+         "run = 0.6\n"                  // 15
+         "width = 2.0\n"                // 16
+         "[[goal]]\n"                   // 17
+         "centre = [30.0, 0.0, 0.6]\n"  // 18
+         "size = [1.0, 2.0, 1.2]\n"     // 19
          + extra;
 }
 

@@ -39,7 +39,8 @@ rise = 0.1
 run = 0.3
 width = 2.0
 down = true
-)", "s.toml");
+)",
+                                             "s.toml");
   // 3 up (0.1, 0.2, 0.3 m high) + 2 down (0.2, 0.1)
   ASSERT_EQ(l.boxes.size(), 5u);
   EXPECT_NEAR(l.boxes[0].size.z(), 0.1, 1e-12);
@@ -52,7 +53,8 @@ down = true
 }
 
 TEST(LevelLoader, UnknownKeyReportsItsLine) {
-  const std::string e = errorOf("name = \"a\"\n\n[[box]]\ncentre = [0, 0, 0.5]\nsize = [1, 1, 1]\ncolur = \"#ffffff\"\n");
+  const std::string e =
+      errorOf("name = \"a\"\n\n[[box]]\ncentre = [0, 0, 0.5]\nsize = [1, 1, 1]\ncolur = \"#ffffff\"\n");
   EXPECT_NE(e.find("x.toml:6: unknown key 'colur'"), std::string::npos) << e;
 }
 
@@ -62,24 +64,29 @@ TEST(LevelLoader, NegativeSizeIsRejected) {
 }
 
 TEST(LevelLoader, WrongTypeIsRejected) {
-  EXPECT_NE(errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0, 0.5]\nsize = \"big\"\n").find("x.toml:4:"), std::string::npos);
+  EXPECT_NE(errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0, 0.5]\nsize = \"big\"\n").find("x.toml:4:"),
+            std::string::npos);
   EXPECT_NE(errorOf("name = \"a\"\ntime_limit = \"soon\"\n").find("x.toml:2:"), std::string::npos);
   EXPECT_NE(errorOf("name = 5\n").find("x.toml:1:"), std::string::npos);
 }
 
 TEST(LevelLoader, SyntaxErrorAndTruncationReportALine) {
-  EXPECT_NE(errorOf("name = \"a\"\n[[box]\n").find("x.toml:2:"), std::string::npos) << errorOf("name = \"a\"\n[[box]\n");
+  EXPECT_NE(errorOf("name = \"a\"\n[[box]\n").find("x.toml:2:"), std::string::npos)
+      << errorOf("name = \"a\"\n[[box]\n");
   EXPECT_NE(errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0,").find("x.toml:3:"), std::string::npos);
 }
 
 TEST(LevelLoader, MissingNameAndBadColourAreRejected) {
   EXPECT_NE(errorOf("plane = \"side\"\n").find("missing 'name"), std::string::npos);
-  EXPECT_NE(errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0, 0.5]\nsize = [1, 1, 1]\ncolour = \"red\"\n").find("x.toml:5:"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0, 0.5]\nsize = [1, 1, 1]\ncolour = \"red\"\n").find("x.toml:5:"),
+      std::string::npos);
   EXPECT_NE(errorOf("name = \"a\"\nplane = \"diagonal\"\n").find("x.toml:2:"), std::string::npos);
 }
 
-TEST(LevelLoader, MissingFileIsAnError) { EXPECT_THROW(levels::loadLevel(kSource + "/levels/nonexistent"), engine::Error); }
+TEST(LevelLoader, MissingFileIsAnError) {
+  EXPECT_THROW(levels::loadLevel(kSource + "/levels/nonexistent"), engine::Error);
+}
 
 TEST(PlaneWorld, RayCastHitsTheWallPlacedInTheLevelFile) {
   // levels/steps is a side-view level: its boxes become (x, z) rectangles. A ray at z = 1.0 passes over the
@@ -125,7 +132,8 @@ TEST(LevelLoader, MarioCourseHasEveryStageInOrder) {
   // stages along +X: ghost, stairs (>= 4 steps of 0.10-0.15 m), tunnel, boxes, ball, goal
   double stairsX = 1e9, tunnelX = 1e9, maxStep = 0;
   for (const levels::BoxDef& b : m.boxes) {
-    if (b.name.rfind("stairs_up", 0) == 0) stairsX = std::min(stairsX, b.centre.x()), maxStep = std::max(maxStep, b.size.z());
+    if (b.name.rfind("stairs_up", 0) == 0)
+      stairsX = std::min(stairsX, b.centre.x()), maxStep = std::max(maxStep, b.size.z());
     if (b.name == "tunnel") tunnelX = b.centre.x();
   }
   EXPECT_LT(m.ghosts[0].appearX, stairsX);
@@ -154,8 +162,9 @@ TEST(LevelLoader, UnknownEntityTypeIsNamedWithItsLine) {
 
 TEST(LevelLoader, OverlappingAndNegativeEntitiesAreRejected) {
   const std::string game = "name = \"a\"\n[rules]\n[[goal]]\ncentre = [9, 0, 0.5]\nsize = [1, 1, 1]\n";
-  const std::string overlap = errorOf(game + "[[box]]\nname = \"crate\"\ncentre = [2, 0, 1.5]\nsize = [1, 1, 1]\n"
-                                             "[[question_box]]\ncentre = [2.2, 0, 1.9]\n");
+  const std::string overlap = errorOf(game +
+                                      "[[box]]\nname = \"crate\"\ncentre = [2, 0, 1.5]\nsize = [1, 1, 1]\n"
+                                      "[[question_box]]\ncentre = [2.2, 0, 1.9]\n");
   EXPECT_NE(overlap.find("x.toml:10: question box overlaps 'crate' (defined on line 6)"), std::string::npos) << overlap;
   const std::string negative = errorOf(game + "[[question_box]]\ncentre = [2, 0, 1.9]\nsize = [0.4, -0.4, 0.4]\n");
   EXPECT_NE(negative.find("x.toml:6: question box sizes must be positive"), std::string::npos) << negative;

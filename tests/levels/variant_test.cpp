@@ -140,7 +140,8 @@ TEST(Variant, ALevelThatIsNotAMarioCourseIsRefusedWithItsName) {
     levels::marioVariantToml(flat, levels::drawMarioVariant(1, 2));
     FAIL() << "no error";
   } catch (const engine::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("levels/flat/level.toml: a variant needs a Mario-style course"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("levels/flat/level.toml: a variant needs a Mario-style course"),
+              std::string::npos)
         << e.what();
   }
 }

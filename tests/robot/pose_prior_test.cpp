@@ -5,9 +5,9 @@
 #include "ai/tree/training_tree.h"
 #include "engine/loop/clock.h"
 #include "engine/physics/physics_world.h"
-#include "robot/skill_runtime.h"
 #include "robot/robot.h"
 #include "robot/skill_controller.h"
+#include "robot/skill_runtime.h"
 #include "tests/fixtures.h"
 
 namespace {
@@ -191,11 +191,16 @@ TEST(PosePrior, ProneKeyframesAloneLieFaceDownWithinThreeSecondsWithoutAFall) {
     const robot::Sensors s = r.sense(world);
     pitch = robot::forwardPitch(s) * 180.0 / M_PI;
     torsoHeight = r.linkPose(world, model.torso).translation().z();
-    const bool lying = torsoHeight < prone.card.as<ai::ProneCard>()->height && pitch > prone.card.as<ai::ProneCard>()->pitch.lo && pitch < prone.card.as<ai::ProneCard>()->pitch.hi;
+    const bool lying = torsoHeight < prone.card.as<ai::ProneCard>()->height &&
+                       pitch > prone.card.as<ai::ProneCard>()->pitch.lo &&
+                       pitch < prone.card.as<ai::ProneCard>()->pitch.hi;
     if (lying && lyingTick < 0) lyingTick = tick;
-    if (robot::hasFallen(prone.termination, s) && fallTick < 0) fallTick = tick, std::printf("fell at %d: pitch %.0f side %.0f z %.2f\n", tick, pitch, robot::sideLean(s) * 57.3, s.basePosition.z());
+    if (robot::hasFallen(prone.termination, s) && fallTick < 0)
+      fallTick = tick, std::printf("fell at %d: pitch %.0f side %.0f z %.2f\n", tick, pitch, robot::sideLean(s) * 57.3,
+                                   s.basePosition.z());
   }
-  std::printf("prone prior: lying from %.2f s; at 4 s torso %.3f m, pitch %.0f deg\n", lyingTick * 0.01, torsoHeight, pitch);
+  std::printf("prone prior: lying from %.2f s; at 4 s torso %.3f m, pitch %.0f deg\n", lyingTick * 0.01, torsoHeight,
+              pitch);
   EXPECT_EQ(clock.tp, prone.prior.halfPeriodTicks);  // the clock stopped at the last key
   EXPECT_GT(lyingTick, 0);
   EXPECT_LE(lyingTick, 300);
@@ -207,8 +212,8 @@ TEST(PosePrior, StandUpKeyframesAloneRaiseTheProneRobotWithinFiveSecondsAndItSta
   // physics, zero policy output: the prone prior lays the G1 face down (4 s), then the switch to the stand-up as
   // the runtime makes it (its clock from 0, the prone prior fading out over 0.3 s on its own clock). The stand-up's
   // keyframes alone bring the pelvis to >= 0.70 m with a tilt under 10 deg (the card) within 5 s (measured
-  // 4.64 s; 4.99 s before the rise from the squat was sped up from the squat), never roll it onto a side or the back, and it
-  // is still standing 2 s later.
+  // 4.64 s; 4.99 s before the rise from the squat was sped up from the squat), never roll it onto a side or the back,
+  // and it is still standing 2 s later.
   const robot::RobotModel& model = fixtures::robotModel();
   const ai::TrainingTree& tree = shippedTree();
   const ai::SkillSpec& prone = *tree.find("prone");
@@ -250,7 +255,7 @@ TEST(PosePrior, StandUpKeyframesAloneRaiseTheProneRobotWithinFiveSecondsAndItSta
   EXPECT_GT(standTick, 0);
   EXPECT_LE(standTick, 500);
   EXPECT_EQ(fallTick, -1);
-  EXPECT_LE(standTick, 800 - 200);   // 2 s or more of standing were checked
-  EXPECT_GT(lowestAfter, 0.65);      // it did not sink back
+  EXPECT_LE(standTick, 800 - 200);  // 2 s or more of standing were checked
+  EXPECT_GT(lowestAfter, 0.65);     // it did not sink back
   EXPECT_LT(tiltAfter, 20.0 * M_PI / 180.0);
 }

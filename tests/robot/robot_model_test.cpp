@@ -80,7 +80,8 @@ TEST(RobotModel, TruncatedXmlReportsALine) {
 
 TEST(RobotModel, FixedJointIsRejectedWithItsLine) {
   std::string urdf = shippedUrdf();
-  replaceOnce(&urdf, "<joint name=\"waist_yaw_joint\" type=\"revolute\">", "<joint name=\"waist_yaw_joint\" type=\"fixed\">");
+  replaceOnce(&urdf, "<joint name=\"waist_yaw_joint\" type=\"revolute\">",
+              "<joint name=\"waist_yaw_joint\" type=\"fixed\">");
   const std::string e = errorOf(urdf);
   EXPECT_NE(e.find("'waist_yaw_joint' is not revolute"), std::string::npos) << e;
   // the line is the joint element's own line
@@ -103,7 +104,8 @@ TEST(RobotModel, PhysicallyAbsurdValuesAreRefused) {
   EXPECT_NE(errorOf(heavy).find("must have a mass in (0, 1000] kg"), std::string::npos) << errorOf(heavy);
   std::string spinning = shippedUrdf();
   replaceOnce(&spinning, "<armature value=\"0.01017752\"/>", "<armature value=\"1e300\"/>");
-  EXPECT_NE(errorOf(spinning).find("<armature value> must be a number in [0, 10]"), std::string::npos) << errorOf(spinning);
+  EXPECT_NE(errorOf(spinning).find("<armature value> must be a number in [0, 10]"), std::string::npos)
+      << errorOf(spinning);
   std::string wide = shippedUrdf();
   replaceOnce(&wide, "ixx=\"0.010549\"", "ixx=\"1e300\"");
   EXPECT_NE(errorOf(wide), "");
@@ -122,7 +124,8 @@ TEST(RobotConfig, ANonFiniteGainOrDefaultIsRefusedWithItsLine) {
     robot::loadRobotModel(dir + "/g1.toml");
     FAIL() << "accepted kp = nan";
   } catch (const engine::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("g1.toml:15: left_hip_pitch_joint.kp must be a finite number"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("g1.toml:15: left_hip_pitch_joint.kp must be a finite number"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -155,6 +158,7 @@ TEST(RobotConfig, UnknownJointReportsFileAndLine) {
     robot::loadRobotModel(dir + "/g1.toml");
     FAIL() << "accepted an unknown joint";
   } catch (const engine::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("g1.toml:3: unknown joint 'left_hip_pich_joint'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("g1.toml:3: unknown joint 'left_hip_pich_joint'"), std::string::npos)
+        << e.what();
   }
 }

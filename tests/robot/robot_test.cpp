@@ -4,13 +4,12 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/fixtures.h"
-
 #include <cmath>
 
 #include "game/play.h"
 #include "levels/level.h"
 #include "robot/kinematics.h"
+#include "tests/fixtures.h"
 
 namespace {
 

@@ -3,8 +3,6 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/fixtures.h"
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +10,7 @@
 
 #include "engine/core/error.h"
 #include "robot/skill_layout.h"
+#include "tests/fixtures.h"
 
 namespace {
 
@@ -62,10 +61,10 @@ TEST(SkillController, PriorBendsHipKneeAnkleAsThePaperSays) {
   robot::PdCommand pd;
   robot::skillPdCommand(model(), skill, action, robot::PhaseClock{20}, cmd, &pd);
   // left leg at its peak: A = 0.5 * 1 + 0.1 = 0.6; right leg: B = 0.1
-  EXPECT_NEAR(pd.target[0], -0.1 - 0.6, 1e-12);   // hip pitch
-  EXPECT_NEAR(pd.target[3], 0.3 + 1.2, 1e-12);    // knee +2A
-  EXPECT_NEAR(pd.target[4], -0.2 - 0.6, 1e-12);   // ankle pitch
-  EXPECT_NEAR(pd.target[6], -0.1 - 0.1, 1e-12);   // right hip pitch
+  EXPECT_NEAR(pd.target[0], -0.1 - 0.6, 1e-12);  // hip pitch
+  EXPECT_NEAR(pd.target[3], 0.3 + 1.2, 1e-12);   // knee +2A
+  EXPECT_NEAR(pd.target[4], -0.2 - 0.6, 1e-12);  // ankle pitch
+  EXPECT_NEAR(pd.target[6], -0.1 - 0.1, 1e-12);  // right hip pitch
   EXPECT_NEAR(pd.target[9], 0.3 + 0.2, 1e-12);
   EXPECT_NEAR(pd.target[12], 0.5, 1e-12);
   // standing still: dh is dropped when every command is zero
@@ -127,7 +126,7 @@ TEST(SkillController, StrideSwingsTheHipsBackAtLiftOffAndForwardAtTouchDown) {
   EXPECT_NEAR(pd.target[6], -0.1 - 0.2, 1e-12);
   EXPECT_NEAR(pd.target[10], -0.2 + 0.2, 1e-12);
   EXPECT_NEAR(pd.target[13], 0.2, 1e-12);  // no arm swing configured: shoulders at their default
-  skill.prior.armSwing = 0.5;             // 0.4 rad at 0.8 m/s: the left arm forward while its leg is back
+  skill.prior.armSwing = 0.5;              // 0.4 rad at 0.8 m/s: the left arm forward while its leg is back
   robot::skillPdCommand(model(), skill, action, robot::PhaseClock{0}, cmd, &pd);
   EXPECT_NEAR(pd.target[13], 0.2 - 0.4, 1e-12);
   EXPECT_NEAR(pd.target[18], 0.2 + 0.4, 1e-12);
@@ -169,14 +168,15 @@ TEST(SkillTree, ShippedTreeLoadsWithWalkAsRoot) {
 TEST(SkillTree, BranchInheritsTheControllerTablesItDoesNotWrite) {
   const std::string dir = testing::TempDir() + "/tree_inherit";
   std::filesystem::create_directories(dir);
-  std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\naction_filter = 0.8\n[skill.walk.rewards]\nlive = 1\n"
-                                    "[skill.walk.gains]\nhip_pitch=[300,5]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[450,8]\n"
-                                    "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
-                                    "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n"
-                                    "[skill.walk.action_scale]\nknee = 0.5\n"
-                                    "[skill.walk.termination]\nmax_tilt_deg = 25\n"
-                                    // 'a' sorts before 'walk', so the file order is not the resolution order
-                                    "[skill.a]\nparent = \"walk\"\nkey = 1\naction_filter = 0.5\n[skill.a.rewards]\nlive = 1\n";
+  std::ofstream(dir + "/t.toml")
+      << "[skill.walk]\nparent = \"\"\nkey = 0\naction_filter = 0.8\n[skill.walk.rewards]\nlive = 1\n"
+         "[skill.walk.gains]\nhip_pitch=[300,5]\nhip_roll=[1,1]\nhip_yaw=[1,1]\nknee=[450,8]\n"
+         "ankle_pitch=[1,1]\nankle_roll=[1,1]\nwaist_yaw=[1,1]\nshoulder_pitch=[1,1]\n"
+         "shoulder_roll=[1,1]\nshoulder_yaw=[1,1]\nelbow=[1,1]\nwrist_roll=[1,1]\n"
+         "[skill.walk.action_scale]\nknee = 0.5\n"
+         "[skill.walk.termination]\nmax_tilt_deg = 25\n"
+         // 'a' sorts before 'walk', so the file order is not the resolution order
+         "[skill.a]\nparent = \"walk\"\nkey = 1\naction_filter = 0.5\n[skill.a.rewards]\nlive = 1\n";
   const robot::SkillTree tree = robot::loadSkillTree(dir + "/t.toml", model());
   const robot::SkillDef& a = *tree.find("a");
   EXPECT_DOUBLE_EQ(a.kp[0], 300.0);  // left hip pitch, from walk
@@ -239,25 +239,31 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(cycle).find("cycle"), std::string::npos) << errorOf(cycle);
   const std::string walk = "[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" + gains;
   const std::string keyless = std::regex_replace(walk, std::regex("key = 0\n"), "");  // nothing routes through it
-  EXPECT_NE(errorOf(keyless).find("t.toml:1: skill.walk: missing key (only a skill that is another's `up`"), std::string::npos)
+  EXPECT_NE(errorOf(keyless).find("t.toml:1: skill.walk: missing key (only a skill that is another's `up`"),
+            std::string::npos)
       << errorOf(keyless);
   const std::string badSettle = walk + "[skill.a]\nparent = \"walk\"\nkey = 1\nsettle_first = \"yes\"\n";
   EXPECT_NE(errorOf(badSettle).find("t.toml:22: skill.a.settle_first must be true or false"), std::string::npos)
       << errorOf(badSettle);
   const std::string badLine = walk + "[skill.walk.commands]\nvx = [0, 1]\nline_command = 1\n";
-  EXPECT_NE(errorOf(badLine).find("t.toml:21: skill.walk.commands.line_command must be true or false"), std::string::npos)
-      << errorOf(badLine);
-  const std::string lineAndStep = walk + "[skill.walk.commands]\nvx = [0, 1]\nline_command = true\nstep_command = true\n";
-  EXPECT_NE(errorOf(lineAndStep).find("t.toml:19: skill.walk.commands: line_command, step_command and ball_command all use"),
+  EXPECT_NE(errorOf(badLine).find("t.toml:21: skill.walk.commands.line_command must be true or false"),
             std::string::npos)
+      << errorOf(badLine);
+  const std::string lineAndStep =
+      walk + "[skill.walk.commands]\nvx = [0, 1]\nline_command = true\nstep_command = true\n";
+  EXPECT_NE(
+      errorOf(lineAndStep).find("t.toml:19: skill.walk.commands: line_command, step_command and ball_command all use"),
+      std::string::npos)
       << errorOf(lineAndStep);
   const std::string lookBackAlone = walk + "[skill.walk.commands]\nvx = [0, 1]\nstep_look_back = true\n";
   EXPECT_NE(errorOf(lookBackAlone).find("t.toml:21: skill.walk.commands: step_look_back needs step_command = true"),
             std::string::npos)
       << errorOf(lookBackAlone);
   const std::string steerNoTurn = walk + "[skill.walk.commands]\nvx = [0, 1]\nwz = [0, 0]\nline_steer = 1.0\n";
-  EXPECT_NE(errorOf(steerNoTurn).find("t.toml:22: skill.walk.commands.line_steer steers with wz, and the skill's commands need a wz range"),
-            std::string::npos)
+  EXPECT_NE(
+      errorOf(steerNoTurn)
+          .find("t.toml:22: skill.walk.commands.line_steer steers with wz, and the skill's commands need a wz range"),
+      std::string::npos)
       << errorOf(steerNoTurn);
   // the tables training owns are not the runtime's to read: a bad card loads here (ai::loadTrainingTree refuses it)
   EXPECT_EQ(errorOf(walk + "[skill.walk.card]\ntype = \"juggling\"\n"), "");
@@ -265,38 +271,55 @@ TEST(SkillTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf(backwardWindow).find("t.toml:22: skill.a.switch_in_phase: low is above high"), std::string::npos)
       << errorOf(backwardWindow);
   // keyframes: times must increase, keys need an offset, and only a keyframes prior takes keys
-  const std::string backwards = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nkeys = [\n  { t = 1.0, offset = { knee = 1 } },\n"
-                                       "  { t = 0.5, offset = { knee = 0 } },\n]\n";
+  const std::string backwards =
+      walk +
+      "[skill.walk.prior]\ntype = \"keyframes\"\nkeys = [\n  { t = 1.0, offset = { knee = 1 } },\n"
+      "  { t = 0.5, offset = { knee = 0 } },\n]\n";
   EXPECT_NE(errorOf(backwards).find("t.toml:23: skill.walk.prior.keys: times must increase"), std::string::npos)
       << errorOf(backwards);
   const std::string noOffset = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nkeys = [{ t = 1.0 }]\n";
-  EXPECT_NE(errorOf(noOffset).find("t.toml:21: skill.walk.prior.keys: each key needs t = s and offset"), std::string::npos)
+  EXPECT_NE(errorOf(noOffset).find("t.toml:21: skill.walk.prior.keys: each key needs t = s and offset"),
+            std::string::npos)
       << errorOf(noOffset);
-  const std::string keysOnPhase = walk + "[skill.walk.prior]\ntype = \"phase\"\nkeys = [{ t = 1.0, offset = { knee = 1 } }]\n";
-  EXPECT_NE(errorOf(keysOnPhase).find("t.toml:19: skill.walk.prior: a \"keyframes\" prior needs keys"), std::string::npos)
+  const std::string keysOnPhase =
+      walk + "[skill.walk.prior]\ntype = \"phase\"\nkeys = [{ t = 1.0, offset = { knee = 1 } }]\n";
+  EXPECT_NE(errorOf(keysOnPhase).find("t.toml:19: skill.walk.prior: a \"keyframes\" prior needs keys"),
+            std::string::npos)
       << errorOf(keysOnPhase);
   // a prior takes only its type's keys: a pose prior has no gait period to set
   const std::string poseT1 = walk + "[skill.walk.prior]\ntype = \"pose\"\noffset = { knee = 1 }\nT1 = 30\n";
   EXPECT_NE(errorOf(poseT1).find("t.toml:22: skill.walk.prior.T1 is not a key of a \"pose\" prior"), std::string::npos)
       << errorOf(poseT1);
   // a repeating keyframes cycle starts over from the default pose, and goes round the phase circle once
-  const std::string notHome = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nrepeat = true\nkeys = [{ t = 0.5, offset = { knee = 1 } }]\n";
-  EXPECT_NE(errorOf(notHome).find("t.toml:21: skill.walk.prior.repeat: the last key must be within 0.05 rad of the default pose"),
-            std::string::npos) << errorOf(notHome);
-  const std::string odd = walk + "[skill.walk.prior]\ntype = \"keyframes\"\nrepeat = true\nkeys = [{ t = 0.3, offset = { knee = 1 } }, { t = 0.51, offset = { knee = 0 } }]\n";
+  const std::string notHome =
+      walk + "[skill.walk.prior]\ntype = \"keyframes\"\nrepeat = true\nkeys = [{ t = 0.5, offset = { knee = 1 } }]\n";
+  EXPECT_NE(errorOf(notHome).find(
+                "t.toml:21: skill.walk.prior.repeat: the last key must be within 0.05 rad of the default pose"),
+            std::string::npos)
+      << errorOf(notHome);
+  const std::string odd = walk +
+                          "[skill.walk.prior]\ntype = \"keyframes\"\nrepeat = true\nkeys = [{ t = 0.3, offset = { knee "
+                          "= 1 } }, { t = 0.51, offset = { knee = 0 } }]\n";
   EXPECT_NE(errorOf(odd).find("an even number of hundredths"), std::string::npos) << errorOf(odd);
   // a lead-in and a cycle: from a key (not the last) to the last, which repeats it
-  const std::string keys3 = "keys = [{ t = 0.5, offset = { knee = 1 } }, { t = 1.0, offset = { knee = 0.5 } }, { t = 1.5, offset = { knee = %s } }]\n";
+  const std::string keys3 =
+      "keys = [{ t = 0.5, offset = { knee = 1 } }, { t = 1.0, offset = { knee = 0.5 } }, { t = 1.5, offset = { knee = "
+      "%s } }]\n";
   auto withFrom = [&](const char* from, const char* last) {
     char k[256];
     std::snprintf(k, sizeof k, keys3.c_str(), last);
     return walk + "[skill.walk.prior]\ntype = \"keyframes\"\nrepeat_from = " + from + "\n" + k;
   };
-  EXPECT_NE(errorOf(withFrom("0.7", "1")).find("t.toml:21: skill.walk.prior.repeat_from must be the t of a key before the last"),
-            std::string::npos) << errorOf(withFrom("0.7", "1"));
+  EXPECT_NE(errorOf(withFrom("0.7", "1"))
+                .find("t.toml:21: skill.walk.prior.repeat_from must be the t of a key before the last"),
+            std::string::npos)
+      << errorOf(withFrom("0.7", "1"));
   EXPECT_NE(errorOf(withFrom("1.5", "1")).find("must be the t of a key before the last"), std::string::npos);
-  EXPECT_NE(errorOf(withFrom("0.5", "0.5")).find("t.toml:21: skill.walk.prior.repeat_from: the last key must be within 0.05 rad of the key at repeat_from"),
-            std::string::npos) << errorOf(withFrom("0.5", "0.5"));
+  EXPECT_NE(errorOf(withFrom("0.5", "0.5"))
+                .find("t.toml:21: skill.walk.prior.repeat_from: the last key must be within 0.05 rad of the key at "
+                      "repeat_from"),
+            std::string::npos)
+      << errorOf(withFrom("0.5", "0.5"));
   EXPECT_NE(errorOf(withFrom("0.5", "0") + "repeat = true\n").find("give one of them"), std::string::npos)
       << errorOf(withFrom("0.5", "0") + "repeat = true\n");
 }
@@ -308,7 +331,7 @@ TEST(KeyframesPrior, EasesBetweenKeysAndHoldsTheLastWithTheClockStopped) {
   a.tick = 100;
   a.offset[3] = 1.0;  // left knee +1 rad at 1 s
   b.tick = 200;
-  b.offset[3] = 0.4;  // then +0.4 at 2 s
+  b.offset[3] = 0.4;    // then +0.4 at 2 s
   b.offset[13] = -2.0;  // and the left shoulder pitch -2
   skill.prior.keyframes = {a, b};
   skill.prior.halfPeriodTicks = 200;
@@ -320,13 +343,13 @@ TEST(KeyframesPrior, EasesBetweenKeysAndHoldsTheLastWithTheClockStopped) {
     robot::skillPdCommand(model(), skill, none, robot::PhaseClock{tp}, robot::SkillCommand{}, &pd);
     return pd.target[j] - model().joints[j].defaultPosition;
   };
-  EXPECT_DOUBLE_EQ(target(0, 3), 0.0);                  // tick 0: the default pose
-  EXPECT_NEAR(target(50, 3), 0.5, 1e-12);               // half-way to the first key: (1 - cos(pi/2)) / 2 = 0.5
+  EXPECT_DOUBLE_EQ(target(0, 3), 0.0);     // tick 0: the default pose
+  EXPECT_NEAR(target(50, 3), 0.5, 1e-12);  // half-way to the first key: (1 - cos(pi/2)) / 2 = 0.5
   EXPECT_NEAR(target(25, 3), 0.5 * (1 - std::cos(M_PI / 4)), 1e-12);  // eased, not linear (0.146, not 0.25)
-  EXPECT_NEAR(target(100, 3), 1.0, 1e-12);              // at the key
-  EXPECT_NEAR(target(150, 3), 0.7, 1e-12);              // half-way between the keys
+  EXPECT_NEAR(target(100, 3), 1.0, 1e-12);                            // at the key
+  EXPECT_NEAR(target(150, 3), 0.7, 1e-12);                            // half-way between the keys
   EXPECT_NEAR(target(150, 13), -1.0, 1e-12);
-  EXPECT_NEAR(target(500, 3), 0.4, 1e-12);              // after the last key: held
+  EXPECT_NEAR(target(500, 3), 0.4, 1e-12);  // after the last key: held
   // the clock counts to the last key and stops there; a switch into the skill starts it from the beginning
   robot::PhaseClock clock;
   for (int i = 0; i < 300; ++i) clock.advance(skill.prior, robot::SkillCommand{});
@@ -343,9 +366,11 @@ TEST(KeyframesPrior, ARepeatingMotionWrapsItsClockToTheStart) {
   const std::string dir = testing::TempDir() + "/tree_repeat";
   std::filesystem::create_directories(dir);
   const std::string gains = kWalkGains;
-  std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", repeat = true, keys = "
-                                    "[{ t = 0.3, offset = { knee = 1.0 } }, { t = 1.2, offset = { knee = 0.0 } }] }\n"
-                                    "[skill.walk.rewards]\nlive = 1\n" + gains;
+  std::ofstream(dir + "/t.toml")
+      << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", repeat = true, keys = "
+         "[{ t = 0.3, offset = { knee = 1.0 } }, { t = 1.2, offset = { knee = 0.0 } }] }\n"
+         "[skill.walk.rewards]\nlive = 1\n" +
+             gains;
   const robot::SkillTree tree = robot::loadSkillTree(dir + "/t.toml", model());
   const robot::PriorDef& prior = tree.find("walk")->prior;
   EXPECT_EQ(prior.cycleTicks, 120);      // the last key's tick
@@ -357,12 +382,16 @@ TEST(KeyframesPrior, ARepeatingMotionWrapsItsClockToTheStart) {
   EXPECT_EQ(clock.tp, 0);  // the cycle starts over (a one-shot clock would hold at 120)
   for (int i = 0; i < 30; ++i) clock.advance(prior, robot::SkillCommand{});
   robot::PdCommand pd;
-  robot::skillPdCommand(model(), *tree.find("walk"), std::array<float, robot::kActionSize>{}, clock, robot::SkillCommand{}, &pd);
+  robot::skillPdCommand(model(), *tree.find("walk"), std::array<float, robot::kActionSize>{}, clock,
+                        robot::SkillCommand{}, &pd);
   EXPECT_NEAR(pd.target[3] - model().joints[3].defaultPosition, 1.0, 1e-12);  // the second cycle's first key
   // a lead-in, then the cycle from the key at repeat_from to the last (which repeats it)
-  std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", repeat_from = 0.5, keys = "
-                                    "[{ t = 0.5, offset = { knee = 1.0 } }, { t = 0.9, offset = { knee = 0.2 } }, { t = 1.3, offset = { knee = 1.0 } }] }\n"
-                                    "[skill.walk.rewards]\nlive = 1\n" + gains;
+  std::ofstream(dir + "/t.toml")
+      << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", repeat_from = 0.5, keys = "
+         "[{ t = 0.5, offset = { knee = 1.0 } }, { t = 0.9, offset = { knee = 0.2 } }, { t = 1.3, offset = { knee = "
+         "1.0 } }] }\n"
+         "[skill.walk.rewards]\nlive = 1\n" +
+             gains;
   const robot::SkillTree leadIn = robot::loadSkillTree(dir + "/t.toml", model());
   const robot::PriorDef& cycle = leadIn.find("walk")->prior;
   EXPECT_EQ(cycle.cycleStartTick, 50);
@@ -373,20 +402,24 @@ TEST(KeyframesPrior, ARepeatingMotionWrapsItsClockToTheStart) {
   lead.advance(cycle, robot::SkillCommand{});
   EXPECT_EQ(lead.tp, 50);  // back to the cycle's first key, not to the lead-in from the default pose
   for (int i = 0; i < 40; ++i) lead.advance(cycle, robot::SkillCommand{});
-  robot::skillPdCommand(model(), *leadIn.find("walk"), std::array<float, robot::kActionSize>{}, lead, robot::SkillCommand{}, &pd);
+  robot::skillPdCommand(model(), *leadIn.find("walk"), std::array<float, robot::kActionSize>{}, lead,
+                        robot::SkillCommand{}, &pd);
   EXPECT_NEAR(pd.target[3] - model().joints[3].defaultPosition, 0.2, 1e-12);  // half way round: the middle key
   double s0, c0, s1, c1;  // the phase observation is continuous across the wrap (once round per cycle)
   robot::phaseSignal(129, cycle.halfPeriodTicks, &s0, &c0);
   robot::phaseSignal(50, cycle.halfPeriodTicks, &s1, &c1);
   EXPECT_NEAR(std::atan2(s1, c1) - std::atan2(s0, c0), 2 * M_PI / 80, 1e-9);
   // only keyframes repeat
-  std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"phase\", repeat = true }\n"
-                                    "[skill.walk.rewards]\nlive = 1\n" + gains;
+  std::ofstream(dir + "/t.toml")
+      << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"phase\", repeat = true }\n"
+         "[skill.walk.rewards]\nlive = 1\n" +
+             gains;
   try {
     robot::loadSkillTree(dir + "/t.toml", model());
     ADD_FAILURE() << "a repeating phase prior loaded";
   } catch (const engine::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("t.toml:4: skill.walk.prior.repeat: only a \"keyframes\" prior repeats"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("t.toml:4: skill.walk.prior.repeat: only a \"keyframes\" prior repeats"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -421,7 +454,8 @@ TEST(StepCommand, AuxSlotsHoldTheNextRiseAheadAndHowFarAwayItsEdgeIs) {
   // a 0.15 m step whose edge is 0.43 m ahead of the pelvis, and a ball on the floor between (rays pass it)
   engine::PhysicsWorld world;
   world.addGround(1.0);
-  world.addStaticBox(Eigen::Vector3d(1.43 + 0.5, 0, 0.075), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 1, 0.075), 1.0);
+  world.addStaticBox(Eigen::Vector3d(1.43 + 0.5, 0, 0.075), Eigen::Quaterniond::Identity(),
+                     Eigen::Vector3d(0.5, 1, 0.075), 1.0);
   world.addBall(engine::BallDef{}, Eigen::Vector3d(1.2, 0, 0.11));
   EXPECT_NEAR(world.groundHeight(1.2, 0, 0.8), 0.0, 1e-6);   // through the ball to the floor
   EXPECT_NEAR(world.groundHeight(1.6, 0, 0.8), 0.15, 1e-6);  // the step's tread
@@ -450,15 +484,17 @@ TEST(StepCommand, LookingBackShowsTheLastEdgeATrailingHeelHasStillToCross) {
   // the last tread of a staircase down, 0.15 m high, its edge at x = 2.0; beyond it flat floor
   engine::PhysicsWorld world;
   world.addGround(1.0);
-  world.addStaticBox(Eigen::Vector3d(1.5, 0, 0.075), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 1, 0.075), 1.0);
+  world.addStaticBox(Eigen::Vector3d(1.5, 0, 0.075), Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 1, 0.075),
+                     1.0);
   robot::Sensors s;
   s.basePosition = Eigen::Vector3d(2.1, 0.0, 0.78);  // the pelvis 0.1 m past the edge
-  s.footPosition = {Eigen::Vector3d(1.9, 0.1, 0.19), Eigen::Vector3d(2.3, -0.1, 0.04)};  // left heel at 1.86, on the tread
+  s.footPosition = {Eigen::Vector3d(1.9, 0.1, 0.19),
+                    Eigen::Vector3d(2.3, -0.1, 0.04)};  // left heel at 1.86, on the tread
   robot::SkillCommand c;
   robot::stepIntoCommand(s, world, false, &c);  // ahead alone: flat floor
   EXPECT_DOUBLE_EQ(c.aux0, 0.0);
   EXPECT_DOUBLE_EQ(c.aux1, robot::kStepLookahead);
-  robot::stepIntoCommand(s, world, true, &c);   // the step down the left foot has still to take, 0.1 m behind
+  robot::stepIntoCommand(s, world, true, &c);  // the step down the left foot has still to take, 0.1 m behind
   EXPECT_NEAR(c.aux0, -0.15, 1e-6);
   EXPECT_NEAR(c.aux1, -0.1, 0.24 / 32 + 1e-9);  // halved 4 times between the pelvis and the heel 0.24 m behind it
   s.footPosition[0].x() = 2.05;                 // that heel down past the edge (2.01): flat again
@@ -500,12 +536,12 @@ TEST(Termination, GroundSkillsMayLieFaceDownButNotRollOntoTheirSideOrBack) {
   EXPECT_NEAR(robot::forwardPitch(pitched(-60, 0, 0.5)), -M_PI / 3, 1e-9);
   EXPECT_NEAR(robot::sideLean(pitched(90, 30, 0.12)), M_PI / 6, 1e-9);  // face down, rolled 30 deg: the left side up
   EXPECT_NEAR(robot::sideLean(pitched(0, 30, 0.7)), 0.0, 1e-9);         // upright, a turn about z is no lean
-  EXPECT_FALSE(robot::hasFallen(ground, pitched(90, 0, 0.12)));   // lying face down
+  EXPECT_FALSE(robot::hasFallen(ground, pitched(90, 0, 0.12)));         // lying face down
   EXPECT_FALSE(robot::hasFallen(ground, pitched(110, 10, 0.12)));
-  EXPECT_TRUE(robot::hasFallen(ground, pitched(90, 50, 0.12)));   // rolled onto a side
-  EXPECT_TRUE(robot::hasFallen(ground, pitched(-50, 0, 0.3)));    // onto its back
-  EXPECT_TRUE(robot::hasFallen(ground, pitched(130, 0, 0.2)));    // over the head
-  robot::Sensors leaning = pitched(0, 0, 0.75);  // upright skills keep the Euler check: 40 deg of roll
+  EXPECT_TRUE(robot::hasFallen(ground, pitched(90, 50, 0.12)));  // rolled onto a side
+  EXPECT_TRUE(robot::hasFallen(ground, pitched(-50, 0, 0.3)));   // onto its back
+  EXPECT_TRUE(robot::hasFallen(ground, pitched(130, 0, 0.2)));   // over the head
+  robot::Sensors leaning = pitched(0, 0, 0.75);                  // upright skills keep the Euler check: 40 deg of roll
   leaning.roll = 40 * M_PI / 180;
   EXPECT_TRUE(robot::hasFallen(upright, leaning));
   EXPECT_FALSE(robot::hasFallen(upright, pitched(20, 0, 0.75)));
@@ -549,14 +585,14 @@ TEST(Switching, AKeyPoseSkillTakesOverOnlyOnceTheRobotStandsSettled) {
   s.basePosition = Eigen::Vector3d(0, 0, 0.78);
   s.footContact = {true, true};
   EXPECT_TRUE(robot::postureAllowsSwitch(squat, jump, s, 0));  // standing still
-  s.qd[3] = 1.2;                                              // the left knee still bending (stepping in place)
+  s.qd[3] = 1.2;                                               // the left knee still bending (stepping in place)
   EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s, 0));
-  EXPECT_TRUE(robot::postureAllowsSwitch(squat, walk, s, 0));   // a policy's skill takes over as before
+  EXPECT_TRUE(robot::postureAllowsSwitch(squat, walk, s, 0));  // a policy's skill takes over as before
   s.qd[3] = 0.1;
-  s.footContact = {true, false};                              // one foot up
+  s.footContact = {true, false};  // one foot up
   EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s, 0));
   s.footContact = {true, true};
-  s.linearVelocity = Eigen::Vector3d(0.4, 0, 0);              // moving
+  s.linearVelocity = Eigen::Vector3d(0.4, 0, 0);  // moving
   EXPECT_FALSE(robot::postureAllowsSwitch(squat, jump, s, 0));
 }
 
@@ -569,9 +605,9 @@ TEST(Switching, ASettleFirstSkillWaitsUntilTheRobotHasStoppedDriftingAndUpToThre
   robot::Sensors s;
   s.basePosition = Eigen::Vector3d(0, 0, 0.78);
   s.footContact = {true, true};
-  s.linearVelocity = Eigen::Vector3d(0.1, 0, 0);  // at rest: slower than 0.15 m/s, both feet down
-  EXPECT_TRUE(robot::readyForSwitch(walk, squat, zero, zero, s, 0.3));      // the squat whatever the drift
-  EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, zero, s, 0.05));   // still drifting 0.05 m/s
+  s.linearVelocity = Eigen::Vector3d(0.1, 0, 0);                        // at rest: slower than 0.15 m/s, both feet down
+  EXPECT_TRUE(robot::readyForSwitch(walk, squat, zero, zero, s, 0.3));  // the squat whatever the drift
+  EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, zero, s, 0.05));  // still drifting 0.05 m/s
   EXPECT_TRUE(robot::readyForSwitch(walk, oneLeg, zero, zero, s, 0.03));
   s.footContact = {true, false};  // stopped, but a foot up (stepping in place)
   EXPECT_FALSE(robot::readyForSwitch(walk, oneLeg, zero, zero, s, 0.0));
@@ -592,7 +628,7 @@ TEST(Switching, ASettleFirstSkillWaitsUntilTheRobotHasStoppedDriftingAndUpToThre
   // a square wave of +-a, each half T long, low-passed with time constant tau peaks at a tanh(T / 2 tau) = 0.049 m/s
   EXPECT_LT(drift.norm(), 0.05);
   EXPECT_GT(drift.norm(), 0.04);
-  EXPECT_EQ(robot::maxSwitchWaitTicks(squat), robot::kMaxRestWaitTicks);  // 1.5 s, then the switch is forced
+  EXPECT_EQ(robot::maxSwitchWaitTicks(squat), robot::kMaxRestWaitTicks);     // 1.5 s, then the switch is forced
   EXPECT_EQ(robot::maxSwitchWaitTicks(oneLeg), robot::kMaxSettleWaitTicks);  // 3 s
   EXPECT_EQ(robot::maxSwitchWaitTicks(walk), robot::kMaxSlowWaitTicks);
 }
@@ -634,9 +670,9 @@ TEST(Switching, OutOfAKeyPoseSkillAfterThreeSecondsRestOnBothFeetIsEnough) {
   s.qd[9] = 1.5;  // a knee still moving as the kicking foot taps down: not settled
   EXPECT_FALSE(robot::postureAllowsSwitch(kick, oneLeg, s, 0));
   EXPECT_FALSE(robot::postureAllowsSwitch(kick, oneLeg, s, robot::kMaxSettleWaitTicks - 1));
-  EXPECT_TRUE(robot::postureAllowsSwitch(kick, oneLeg, s, robot::kMaxSettleWaitTicks));  // at rest on both feet
+  EXPECT_TRUE(robot::postureAllowsSwitch(kick, oneLeg, s, robot::kMaxSettleWaitTicks));   // at rest on both feet
   EXPECT_FALSE(robot::postureAllowsSwitch(oneLeg, kick, s, robot::kMaxSettleWaitTicks));  // into it: settled only
-  s.footContact = {true, false};  // the foot in the air
+  s.footContact = {true, false};                                                          // the foot in the air
   EXPECT_FALSE(robot::postureAllowsSwitch(kick, oneLeg, s, robot::kMaxSettleWaitTicks));
   s.footContact = {true, true};
   s.angularVelocity = Eigen::Vector3d(0, 0, 0.5);  // turning on the spot faster than 0.3 rad/s
@@ -653,7 +689,8 @@ TEST(Switching, ASkillWithAPhaseWindowTakesOverOnlyInThatPartOfTheGaitCycle) {
   walk.prior.halfPeriodTicks = 40;  // a cycle of 80 ticks
   run.switchInPhase = {0.5, 0.82};  // tp 40..65
   robot::PhaseClock c;
-  for (const auto& [tp, allowed] : std::vector<std::pair<int, bool>>{{1, false}, {39, false}, {40, true}, {65, true}, {66, false}, {80, false}}) {
+  for (const auto& [tp, allowed] :
+       std::vector<std::pair<int, bool>>{{1, false}, {39, false}, {40, true}, {65, true}, {66, false}, {80, false}}) {
     c.tp = tp;
     EXPECT_EQ(robot::phaseAllowsSwitch(walk, run, c), allowed) << "tp " << tp;
     EXPECT_TRUE(robot::phaseAllowsSwitch(walk, squat, c)) << "no window: any phase, tp " << tp;
@@ -677,7 +714,8 @@ TEST(Switching, AGroundBranchTakesOverFromProneOnlyOnceTheRobotLiesStill) {
     s.linearVelocity = s.baseRotation.inverse() * Eigen::Vector3d(0, 0, -speed);  // sinking, body frame
     return s;
   };
-  EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.78, 0, 0.0), 0));   // still standing (prone's first tick)
+  EXPECT_FALSE(
+      robot::postureAllowsSwitch(prone, pushup, sensors(0.78, 0, 0.0), 0));  // still standing (prone's first tick)
   EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.40, 60, 0.5), 0));  // going down onto the hands
   EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 86, 0.3), 0));  // down, still sinking
   EXPECT_FALSE(robot::postureAllowsSwitch(prone, pushup, sensors(0.13, 50, 0.0), 0));  // low, but not face down
@@ -690,8 +728,9 @@ TEST(Prior, TheTurnTermTwistsTheJointsByTheYawRateCommand) {
   std::filesystem::create_directories(dir);
   const std::string gains = kWalkGains;
   auto load = [&](const std::string& turn) {
-    std::ofstream(dir + "/t.toml") << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", " + turn +
-                                          "keys = [{ t = 0.3, offset = { knee = 1.0 } }] }\n[skill.walk.rewards]\nlive = 1\n" + gains;
+    std::ofstream(dir + "/t.toml")
+        << "[skill.walk]\nparent = \"\"\nkey = 0\nprior = { type = \"keyframes\", " + turn +
+               "keys = [{ t = 0.3, offset = { knee = 1.0 } }] }\n[skill.walk.rewards]\nlive = 1\n" + gains;
     return robot::loadSkillTree(dir + "/t.toml", model());
   };
   const robot::SkillTree tree = load("turn = { waist_yaw = 1.0, left_hip_yaw = -0.5 }, ");
@@ -704,10 +743,10 @@ TEST(Prior, TheTurnTermTwistsTheJointsByTheYawRateCommand) {
     return pd.target[j] - model().joints[j].defaultPosition;
   };
   const size_t waist = 12, leftHipYaw = 2, rightHipYaw = 8, leftKnee = 3;
-  EXPECT_NEAR(offset(0.05, waist), 0.05, 1e-12);      // 1 rad per rad/s
-  EXPECT_NEAR(offset(-0.05, waist), -0.05, 1e-12);    // the other way for a right turn
+  EXPECT_NEAR(offset(0.05, waist), 0.05, 1e-12);    // 1 rad per rad/s
+  EXPECT_NEAR(offset(-0.05, waist), -0.05, 1e-12);  // the other way for a right turn
   EXPECT_NEAR(offset(0.04, leftHipYaw), -0.02, 1e-12);
-  EXPECT_DOUBLE_EQ(offset(0.04, rightHipYaw), 0.0);   // "left_" names one side only
+  EXPECT_DOUBLE_EQ(offset(0.04, rightHipYaw), 0.0);  // "left_" names one side only
   EXPECT_DOUBLE_EQ(offset(0.0, waist), 0.0);
   EXPECT_DOUBLE_EQ(offset(0.05, leftKnee), offset(0.0, leftKnee));  // the keys are untouched
   EXPECT_DOUBLE_EQ(load("").find("walk")->prior.turn[waist], 0.0);  // none: no term

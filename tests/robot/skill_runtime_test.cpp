@@ -55,7 +55,8 @@ TEST(SkillRuntime, TheBatchedStepIsTheOneRobotStep) {
     obs.col(0).setZero();  // another robot of the batch
     batched.active->policy(obs, &out);
     robot::act(model, &batched, out.col(1).data(), command, false, &b);
-    for (int j = 0; j < robot::kNumJoints; ++j) EXPECT_EQ(a.target[size_t(j)], b.target[size_t(j)]) << "tick " << t << " joint " << j;
+    for (int j = 0; j < robot::kNumJoints; ++j)
+      EXPECT_EQ(a.target[size_t(j)], b.target[size_t(j)]) << "tick " << t << " joint " << j;
     EXPECT_EQ(one.phase.tp, batched.phase.tp);
     EXPECT_EQ(one.action, batched.action);
   }
