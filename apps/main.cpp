@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
@@ -393,6 +394,19 @@ int main(int argc, char** argv) {
       "treelearn: a Unitree G1 humanoid in Bullet that learns a tree of skills and plays levels with them.\n"
       "Run 'treelearn <command> --help' for a command's options."};
   app.require_subcommand(1);
+  // a seed is a whole number 0..2^64-1 ("-1" would wrap around to 2^64-1), a real option a finite number
+  const CLI::Validator seedNumber(
+      [](std::string& v) {
+        return v.empty() || v[0] == '-' || v[0] == '+' ? std::string("a seed is a whole number >= 0") : "";
+      },
+      "SEED");
+  const CLI::Validator finite(
+      [](std::string& v) {
+        char* end = nullptr;
+        const double x = std::strtod(v.c_str(), &end);
+        return end == v.c_str() || *end != '\0' || !std::isfinite(x) ? std::string("must be a finite number") : "";
+      },
+      "FINITE");
   std::string treeFile;
   app.add_option("--tree", treeFile,
                  "Skill tree file for train, eval, ship, tree and play (default assets/skills/tree.toml); "
@@ -411,7 +425,8 @@ int main(int argc, char** argv) {
                       "target, '#' comments");
   playCmd->add_option("--seconds", play.seconds, "Simulated seconds (default: script end + 2 s, or 10 s)")
       ->check(CLI::Range(0.01, 86400.0));
-  playCmd->add_option("--seed", play.seed, "Random seed (default: the key script's seed line, else 1)");
+  playCmd->add_option("--seed", play.seed, "Random seed (default: the key script's seed line, else 1)")
+      ->check(seedNumber);
   playCmd->add_option("--record", play.record, "Write a replay file");
   playCmd->add_option("--summary", play.summary, "Also write the summary to this file");
   playCmd->add_option(
@@ -439,6 +454,7 @@ int main(int argc, char** argv) {
   variantCmd->add_option("level", variant.level, "The course it varies: a level folder or .toml file (levels/mario)")
       ->required();
   variantCmd->add_option("--seed", variant.seed, "Seed of the variant (the same seed writes the same file)")
+      ->check(seedNumber)
       ->required();
   variantCmd->add_option("--out", variant.out, "Folder to write level.toml into (created if missing)")->required();
 
@@ -471,7 +487,7 @@ int main(int argc, char** argv) {
   trainCmd->add_option("--threads", train.threads, "Threads stepping the environments")->check(CLI::Range(1, 64));
   trainCmd->add_option("--envs", train.envs, "Parallel environments (must divide the PPO buffer)")
       ->check(CLI::Range(1, 4096));
-  trainCmd->add_option("--seed", train.seed, "Run seed (default 1)");
+  trainCmd->add_option("--seed", train.seed, "Run seed (default 1)")->check(seedNumber);
   trainCmd->add_option("--run-dir", train.runDir,
                        "Run folder for log.csv, checkpoint.bin, best.bin and the exported SKILL.onnx and "
                        "SKILL.policy.bin (default runs/SKILL)");
@@ -488,13 +504,15 @@ int main(int argc, char** argv) {
                    "far; its score then picks best.bin (default 0: none; the evaluations always replay the same "
                    "episodes, so their best reads high)")
       ->check(CLI::Range(0, 1000));
-  trainCmd->add_option("--reinflate-log-std", train.reinflateLogStd,
-                       "Branch init: raise the inherited log-std to at least this");
+  trainCmd
+      ->add_option("--reinflate-log-std", train.reinflateLogStd,
+                   "Branch init: raise the inherited log-std to at least this")
+      ->check(finite & CLI::Range(-5.0, 1.0));
   trainCmd
       ->add_option("--init-log-std", train.initLogStd,
                    "Branch or --init-from fine-tune: set the log-std to this (e.g. -2: less exploration noise around a "
                    "precise prior or policy)")
-      ->check(CLI::Range(-5.0, 1.0));
+      ->check(finite & CLI::Range(-5.0, 1.0));
   trainCmd
       ->add_option("--critic-warmup", train.criticWarmup,
                    "Iterations at the start that update only the critic (a branch's inherited critic learns the "
@@ -508,9 +526,11 @@ int main(int argc, char** argv) {
                      "layers, critic, normaliser and log-std stay the parent's)");
   trainCmd->add_option("--init-from", train.initFrom,
                        "Start from this policy file (e.g. assets/skills/walk.policy.bin) to fine-tune");
-  trainCmd->add_option("--learning-rate", train.learningRate,
-                       "Initial learning rate instead of [ppo]'s learning_rate (a branch from its parent: "
-                       "branch_learning_rate, 3e-5 by default; e.g. 1e-4 to fine-tune with --init-from)");
+  trainCmd
+      ->add_option("--learning-rate", train.learningRate,
+                   "Initial learning rate instead of [ppo]'s learning_rate (a branch from its parent: "
+                   "branch_learning_rate, 3e-5 by default; e.g. 1e-4 to fine-tune with --init-from)")
+      ->check(finite);
   trainCmd->add_option("--models-dir", train.modelsDir,
                        "Folder the other skills' models are read from: the parent's policy, handover and card drivers "
                        "(default: the tree file's folder, assets/skills); nothing is written there");
@@ -547,7 +567,7 @@ int main(int argc, char** argv) {
           "--episodes", eval.episodes,
           "Episodes (default: the card's own count, 50 for walk); for switches: trials per switch (default 10)")
       ->check(CLI::Range(1, 100000));
-  evalCmd->add_option("--seed", eval.seed, "Seed (default 1)");
+  evalCmd->add_option("--seed", eval.seed, "Seed (default 1)")->check(seedNumber);
   evalCmd->add_option("--threads", eval.threads, "Threads")->check(CLI::Range(1, 64));
   evalCmd->add_flag("--sweep", eval.sweep, "Walk: hold fixed commands and print achieved against commanded speeds");
   evalCmd->add_flag("--prior-only", eval.priorOnly,
@@ -573,6 +593,9 @@ int main(int argc, char** argv) {
     if (*replayCmd) return cmdReplay(replay);
     if (*variantCmd) return cmdVariant(variant);
     if (*benchCmd) return apps::runBench(bench);
+    if (*trainCmd && !train.exportOnly && trainCmd->count("--export-from"))
+      throw engine::Error(
+          "--export-from picks what --export-only exports: give --export-only too (no training runs then)");
     if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
     if (*shipCmd) return apps::runShip(ship);
     if (*evalCmd && eval.skill != "switches" && !eval.only.empty())

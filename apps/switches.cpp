@@ -19,6 +19,7 @@ namespace apps {
 
 robot::SkillSet loadSkills(const robot::RobotModel& model) {
   robot::SkillSet set;
+  ai::loadTrainingTree(robot::defaultSkillTreePath(), model);  // the whole file is checked, not only what play reads
   const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
   engine::Hasher h;
   const std::string treeText = engine::readFile(tree.path);

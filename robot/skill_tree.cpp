@@ -219,7 +219,7 @@ void parsePrior(const TreeReader& r, const toml::table& p, const std::string& wh
              where + ".prior");
   prior->kind = priorKind(r, p, where);
   parsePriorPoses(r, p, where, model, prior);
-  prior->halfPeriodTicks = int(r.number(p, "T1", 40, 1, 1000, where + ".prior"));
+  prior->halfPeriodTicks = int(r.integer(p, "T1", 40, 1, 1000, where + ".prior"));
   const toml::node* keysNode = p.get("keys");
   if ((prior->kind == PriorDef::Kind::Keyframes) != (keysNode != nullptr))
     throw Error(located(
@@ -332,7 +332,8 @@ void checkParentsAndKeys(const TreeReader& r, const SkillTree& tree) {
         located(r.file, 0, "the tree needs exactly one root skill (parent = \"\"), found " + std::to_string(roots)));
 }
 
-// Every chain of parents reaches the root (no cycles).
+// Every chain of parents reaches the root (no cycles), and so does every way up (each skill's `up`, else its
+// parent): a request for the root from anywhere routes there.
 void checkAncestry(const TreeReader& r, const SkillTree& tree) {
   for (const SkillDef& s : tree.skills) {
     const SkillDef* at = &s;
@@ -340,6 +341,15 @@ void checkAncestry(const TreeReader& r, const SkillTree& tree) {
       if (hops > tree.skills.size())
         throw Error(located(r.file, s.line, "skill." + s.name + ": its parents form a cycle and never reach the root"));
       at = tree.find(at->parent);
+    }
+    at = &s;
+    for (size_t hops = 0; !at->parent.empty(); ++hops) {
+      if (hops > tree.skills.size())
+        throw Error(located(r.file, s.line,
+                            "skill." + s.name +
+                                ": its way up (`up`, else the parent) goes round in a "
+                                "cycle and never reaches the root"));
+      at = tree.find(at->up.empty() ? at->parent : at->up);
     }
   }
 }
@@ -383,12 +393,17 @@ void parseSkillKeys(const TreeReader& r, const toml::table& t, const std::string
   }
   // a skill without a key is reached only by routing through it (the stand-up: key 0 while lying); checkParentsAndKeys
   if (const toml::node* key = t.get("key")) {
-    s->key = int(r.number(*key, where + ".key", 0, 9));
+    s->key = int(r.integer(*key, where + ".key", 0, 9));
     if (!keys->insert(s->key).second)
       throw Error(located(r.file, r.line(*key), where + ": key " + std::to_string(s->key) + " is taken"));
   }
-  s->model = t.get("model") && t.get("model")->value<std::string>() ? *t.get("model")->value<std::string>()
-                                                                    : s->name + ".onnx";
+  s->model = s->name + ".onnx";
+  if (const toml::node* m = t.get("model")) {  // a file in the tree's folder: a name, never a path out of it
+    const std::optional<std::string> name = m->value<std::string>();
+    if (!name || name->empty() || name->find_first_of("/\\") != std::string::npos || *name == "." || *name == "..")
+      throw Error(located(r.file, r.line(*m), where + ".model must be a file name in the tree's folder (no path)"));
+    s->model = *name;
+  }
   s->switchInPhase = r.range(t, "switch_in_phase", {0.0, 1.0}, 0.0, 1.0, where);
   s->settleFirst = r.flag(t, "settle_first", s->settleFirst, where);
 }

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <optional>
 #include <string>
@@ -47,6 +48,17 @@ struct TreeReader {
           file, line(n),
           what + " = " + std::to_string(*v) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]"));
     return *v;
+  }
+  // a whole number (1e7 or 10000000, not 0.5: a fraction is an error, never truncated)
+  int64_t integer(const toml::node& n, const std::string& what, double lo, double hi) const {
+    const double v = number(n, what, lo, hi);
+    if (v != std::floor(v)) throw engine::Error(engine::located(file, line(n), what + " must be a whole number"));
+    return int64_t(v);
+  }
+  int64_t integer(const toml::table& t, const char* key, int64_t fallback, double lo, double hi,
+                  const std::string& where) const {
+    const toml::node* n = t.get(key);
+    return n ? integer(*n, where + "." + key, lo, hi) : fallback;
   }
   double number(const toml::table& t, const char* key, double fallback, double lo, double hi,
                 const std::string& where) const {

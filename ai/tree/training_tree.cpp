@@ -9,7 +9,10 @@
 #include <cmath>
 #include <set>
 
+#include "ai/ppo/ppo_config.h"
+#include "ai/rewards/reward_terms.h"
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "robot/tree_reader.h"
 
 namespace ai {
@@ -113,8 +116,8 @@ void parseTraining(const TreeReader& r, const toml::table& tr, const std::string
     if (!b) throw Error(located(r.file, r.line(*op), where + ".training.only_positive_rewards must be true or false"));
     s->onlyPositiveRewards = *b;
   }
-  s->trainingSteps = int64_t(r.number(tr, "steps", 1e7, 1, 1e10, where + ".training"));
-  s->trainingEnvs = int(r.number(tr, "envs", 20, 1, 1024, where + ".training"));
+  s->trainingSteps = int64_t(r.integer(tr, "steps", 10000000, 1, 1e10, where + ".training"));
+  s->trainingEnvs = int(r.integer(tr, "envs", 20, 1, 1024, where + ".training"));
   s->handover = r.number(tr, "handover", 0, 0, 1, where + ".training");
   s->handoverSeconds = r.range(tr, "handover_s", {1.0, 3.0}, 0.01, 60, where + ".training");
   s->handoverViaSeconds = r.range(tr, "handover_via_s", {0.0, 0.0}, 0.0, 60, where + ".training");
@@ -170,7 +173,7 @@ void parseTerrain(const TreeReader& r, const toml::table& tt, const std::string&
     throw Error(
         located(r.file, r.line(tt),
                 w + ": a ceiling goes over a robot that has lain down: the skill's training needs handover = 1.0"));
-  d.steps = int(r.number(tt, "steps", 10, 1, 100, w));
+  d.steps = int(r.integer(tt, "steps", 10, 1, 100, w));
   d.stepDepth = r.number(tt, "step_depth", 0.3, 0.1, 2, w);
   d.startX = r.number(tt, "start_x", 1.0, 0, 20, w);
   d.topDepth = r.number(tt, "top_depth", 1.5, 0.1, 20, w);
@@ -376,7 +379,7 @@ void parseDriven(const TreeReader& r, const toml::table& c, const std::string& w
   d->pushes = r.flag(c, "pushes", d->pushes, w);
   if (c.get("push_speed")) d->pushSpeed = r.range(c, "push_speed", {}, 0, 5, w);
   d->pushEverySeconds = r.number(c, "push_every_s", -1, 0.1, 1000, w);
-  d->standEpisodes = int(r.number(c, "stand_episodes", 0, 0, 100000, w));
+  d->standEpisodes = int(r.integer(c, "stand_episodes", 0, 0, 100000, w));
   d->standSeconds = r.number(c, "stand_s", 10, 0.1, 3600, w);
   d->noFallPercent = r.number(c, "no_fall_pct", -1, -1, 100, w);
   d->speedError = r.number(c, "speed_error", -1, -1, 100, w);
@@ -402,7 +405,7 @@ void parseKind(const TreeReader& r, const toml::table& c, const std::string& w, 
   }
   if (auto* k = card->as<JumpCard>()) {
     k->height = r.number(c, "jump_height", 0.10, 0, 2, w);
-    k->jumps = int(r.number(c, "jumps", 3, 1, 100, w));
+    k->jumps = int(r.integer(c, "jumps", 3, 1, 100, w));
   }
   if (auto* k = card->as<KickCard>()) {
     k->speed = r.number(c, "kick_speed", 2.5, 0, 50, w);
@@ -419,7 +422,7 @@ void parseKind(const TreeReader& r, const toml::table& c, const std::string& w, 
   }
   if (auto* k = card->as<PushUpCard>()) {
     k->episodeSeconds = r.number(c, "episode_s", 20, 0.1, 3600, w);
-    k->pushUps = int(r.number(c, "push_ups", 3, 1, 1000, w));
+    k->pushUps = int(r.integer(c, "push_ups", 3, 1, 1000, w));
     k->rise = r.number(c, "rise", 0.08, 0, 2, w);
   }
   if (auto* k = card->as<CrawlCard>()) {
@@ -439,7 +442,7 @@ void parseCard(const TreeReader& r, const toml::table& c, const std::string& whe
   d.card = cardOfType(r, c, w, &type);
   checkCardKeys(r, c, w, type, d.kind());
   checkCardNeeds(r, c, w, type, *s, d.kind());
-  d.episodes = int(r.number(c, "episodes", 50, 1, 100000, w));
+  d.episodes = int(r.integer(c, "episodes", 50, 1, 100000, w));
   d.successPercent = r.number(c, "success_pct", -1, -1, 100, w);
   if (DrivenCard* driven = d.driven()) parseDriven(r, c, w, *s, driven);
   if (auto* lying = std::get_if<StandUpCard>(&d.card)) lying->lieSeconds = r.range(c, "lie_s", {3.0, 5.5}, 0.01, 60, w);
@@ -528,6 +531,14 @@ TrainingTree loadTrainingTree(const std::string& path, const robot::RobotModel& 
   }
   checkHandoverSkills(r, tree);
   inheritRandomisation(givesRandomisation, &tree);
+  // what only training reads is checked here too, so that `tree` and `play` refuse a file `train` would: every
+  // reward term is a known one, and the [ppo] tables parse
+  const std::string text = engine::readFile(path);
+  PpoConfig shared = parsePpoConfig(text, path, "ppo");
+  for (const SkillSpec& s : tree.skills) {
+    resolveRewardTerms(s, path);
+    parsePpoConfig(text, path, "skill." + s.name + ".ppo", shared);
+  }
   return tree;
 }
 

@@ -66,6 +66,14 @@ TEST(TrainingTree, BadEntriesAreLocated) {
   EXPECT_NE(errorOf("[skill.walk]\nparent = \"\"\nkey = 0\n" + fixtures::kWalkGains)
                 .find("t.toml:1: skill.walk: missing [rewards]"),
             std::string::npos);
+  // what only training reads is refused at load too, so that `tree` and `play` refuse what `train` would
+  std::string badTerm = walk;
+  badTerm.replace(badTerm.find("live = 1"), 8, "speed = 1");
+  EXPECT_NE(errorOf(badTerm).find("t.toml:5: skill.walk: unknown reward term 'speed'"), std::string::npos)
+      << errorOf(badTerm);
+  EXPECT_NE(errorOf(walk + "[skill.walk.ppo]\nlearning_rat = 1e-4\n").find("t.toml:20: unknown key 'learning_rat'"),
+            std::string::npos)
+      << errorOf(walk + "[skill.walk.ppo]\nlearning_rat = 1e-4\n");
   // the runtime's errors come first (robot::loadSkillTree reads the file before)
   EXPECT_NE(errorOf(walk + "[skill.walk.commands]\nramp = true\n")
                 .find("t.toml:20: unknown key 'ramp' in skill.walk.commands"),

@@ -282,6 +282,23 @@ TEST(Cli, BadArgumentsExitWithCodeTwo) {
   EXPECT_NE(missing.out.find("levels/nowhere"), std::string::npos) << missing.out;
 }
 
+// numbers that would silently become something else: a seed of -1 (2^64 - 1), a NaN rate (taken as "not given"),
+// an option that only means something with another one
+TEST(Cli, NumbersThatWouldWrapOrVanishAreRefused) {
+  const CliRun seed = run("play levels/flat --seconds 0.1 --seed -1");
+  EXPECT_EQ(seed.code, 2);
+  EXPECT_NE(seed.out.find("a seed is a whole number >= 0"), std::string::npos) << seed.out;
+  EXPECT_EQ(run("eval walk --seed -3").code, 2);
+  const CliRun rate = run("train squat --learning-rate nan --run-dir " + testing::TempDir() + "/never");
+  EXPECT_EQ(rate.code, 2);
+  EXPECT_NE(rate.out.find("must be a finite number"), std::string::npos) << rate.out;
+  EXPECT_EQ(run("train squat --reinflate-log-std 40 --run-dir " + testing::TempDir() + "/never").code, 2);
+  const CliRun exportFrom = run("train squat --export-from best --run-dir " + testing::TempDir() + "/never");
+  EXPECT_EQ(exportFrom.code, 2);
+  EXPECT_NE(exportFrom.out.find("--export-from picks what --export-only exports"), std::string::npos) << exportFrom.out;
+  EXPECT_FALSE(std::filesystem::exists(testing::TempDir() + "/never"));  // nothing started
+}
+
 TEST(Cli, BadKeyScriptNamesFileAndLine) {
   const std::string d = tempDir("keys");
   engine::writeFileAtomic(d + "/bad.keys", "0.00 tap 0\n0.50 hold W\n");

@@ -265,6 +265,17 @@ TEST(SkillTree, BadEntriesAreLocated) {
           .find("t.toml:22: skill.walk.commands.line_steer steers with wz, and the skill's commands need a wz range"),
       std::string::npos)
       << errorOf(steerNoTurn);
+  // a whole number is whole (never truncated), a model is a file beside the tree, and every way up reaches the root
+  EXPECT_NE(errorOf("[skill.walk]\nparent = \"\"\nkey = 0.5\n").find("t.toml:3: skill.walk.key must be a whole number"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[skill.walk]\nparent = \"\"\nkey = 0\nmodel = \"../../dev/zero\"\n")
+                .find("t.toml:4: skill.walk.model must be a file name in the tree's folder"),
+            std::string::npos);
+  const std::string upCycle =
+      walk + "[skill.a]\nparent = \"walk\"\nup = \"b\"\nkey = 1\n" + "[skill.b]\nparent = \"a\"\nup = \"a\"\n";
+  EXPECT_NE(errorOf(upCycle).find("skill.a: its way up (`up`, else the parent) goes round in a cycle"),
+            std::string::npos)
+      << errorOf(upCycle);
   // the tables training owns are not the runtime's to read: a bad card loads here (ai::loadTrainingTree refuses it)
   EXPECT_EQ(errorOf(walk + "[skill.walk.card]\ntype = \"juggling\"\n"), "");
   const std::string backwardWindow = walk + "[skill.a]\nparent = \"walk\"\nkey = 1\nswitch_in_phase = [0.8, 0.3]\n";
