@@ -153,18 +153,10 @@ const char* Autopilot::modeName(Mode m) {
 }
 
 void Autopilot::hold(int64_t tick, char key, bool down, std::vector<engine::KeyEvent>* out) {
-  const size_t at = held_.find(key);
-  if (down == (at != std::string::npos)) return;
-  out->push_back({tick, down ? engine::KeyAction::kDown : engine::KeyAction::kUp, key});
-  if (down)
-    held_ += key;
-  else
-    held_.erase(at, 1);
+  held_.hold(tick, key, down, out);
 }
 
-void Autopilot::releaseAll(int64_t tick, std::vector<engine::KeyEvent>* out) {
-  while (!held_.empty()) hold(tick, held_.back(), false, out);
-}
+void Autopilot::releaseAll(int64_t tick, std::vector<engine::KeyEvent>* out) { held_.releaseAll(tick, out); }
 
 void Autopilot::enter(int64_t tick, Mode m, char skillKey, bool forward, std::vector<engine::KeyEvent>* out) {
   mode_ = m;

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "engine/input/key_script.h"
+#include "game/held_keys.h"
 #include "robot/skill_runtime.h"
 
 namespace game {
@@ -110,7 +111,7 @@ class Autopilot {
 
   Mode mode_ = Mode::Walk;
   bool started_ = false;
-  std::string held_;  // movement keys held now (W S A D Q E)
+  HeldKeys held_;  // movement keys held now (W S A D Q E)
   int respawnsSeen_ = 0;
   // Align / Approach: the target, the tolerances, the step (stop, turn, side) and when the last key went up
   double alignY_ = 0, alignYTol_ = 0.1, alignYawTol_ = 0.1, alignYaw_ = 0;  // alignYaw_: the heading to face

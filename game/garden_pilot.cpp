@@ -87,18 +87,10 @@ const char* GardenKeys::modeName(Mode m) {
 }
 
 void GardenKeys::hold(int64_t tick, char key, bool down, std::vector<engine::KeyEvent>* out) {
-  const size_t at = held_.find(key);
-  if (down == (at != std::string::npos)) return;
-  out->push_back({tick, down ? engine::KeyAction::kDown : engine::KeyAction::kUp, key});
-  if (down)
-    held_ += key;
-  else
-    held_.erase(at, 1);
+  held_.hold(tick, key, down, out);
 }
 
-void GardenKeys::releaseMoves(int64_t tick, std::vector<engine::KeyEvent>* out) {
-  while (!held_.empty()) hold(tick, held_.back(), false, out);
-}
+void GardenKeys::releaseMoves(int64_t tick, std::vector<engine::KeyEvent>* out) { held_.releaseAll(tick, out); }
 
 void GardenKeys::skill(int64_t tick, char key, std::vector<engine::KeyEvent>* out) {
   if (!key || key == skill_) return;
@@ -157,10 +149,10 @@ std::vector<engine::KeyEvent> GardenKeys::decide(int64_t tick, const LegCues& c)
       }
       const double error = std::remainder(c.legHeading - c.yaw, 2.0 * M_PI);
       const double tolerance = c.stairsLeg ? p_.stairsTolerance : p_.walkTolerance;
-      const bool turning = held_.find('A') != std::string::npos || held_.find('D') != std::string::npos;
+      const bool turning = held_.holds('A') || held_.holds('D');
       if (turning) {
         // let go early: the ramp down and the skill's lag turn it the rest of the way
-        const bool wrongWay = (held_.find('A') != std::string::npos) != (error > 0);
+        const bool wrongWay = held_.holds('A') != (error > 0);
         if (wrongWay || std::abs(error) <= turnRelease(c.commandWz, p_) + 0.5 * tolerance) {
           releaseMoves(tick, &out);
           restSince_ = -1;

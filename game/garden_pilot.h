@@ -35,6 +35,7 @@
 
 #include "engine/input/key_script.h"
 #include "game/autopilot.h"
+#include "game/held_keys.h"
 #include "game/nav/navigator.h"
 
 namespace engine {
@@ -115,7 +116,7 @@ class GardenKeys {
   SkillKeys keys_;
   GardenKeyParams p_;
   Mode mode_ = Mode::Stop;
-  std::string held_;        // movement keys held (W S A D)
+  HeldKeys held_;           // movement keys held (W S A D)
   char skill_ = 0;          // the skill key pressed last
   int64_t restSince_ = -1;  // the tick the robot was first seen at rest in this Stop / between turn pulses
   int tries_ = 0;

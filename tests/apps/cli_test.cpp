@@ -16,35 +16,17 @@
 
 #include "ai/ppo/checkpoint.h"
 #include "engine/core/file_io.h"
+#include "tests/cli_run.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kSource = TREELEARN_SOURCE_DIR;
+using cli::kSource;
 
-struct CliRun {
-  int code = -1;
-  std::string out;  // stdout and stderr together
-};
-
-CliRun run(const std::string& args) {
-  const std::string cmd = "cd " + kSource + " && " + TREELEARN_BINARY + " " + args + " 2>&1";
-  CliRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string tempDir(const std::string& name) {
-  const std::string d = testing::TempDir() + "/treelearn_cli_" + name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+using cli::CliRun;
+using cli::run;
+using cli::shell;
+std::string tempDir(const std::string& name) { return cli::tempDir("cli", name); }
 
 // every regular file of a folder (recursively) with a hash of its bytes and its modification time
 std::map<std::string, std::pair<size_t, fs::file_time_type>> snapshot(const std::string& dir) {
