@@ -78,6 +78,10 @@ struct Reader {
     if (!n) return fallback;
     auto v = n->value<std::string>();
     if (!v) throw Error(located(file, line(*n), std::string("'") + key + "' must be a string"));
+    // printed into summaries and the HUD as is: no control characters (a line break, an escape sequence)
+    for (const char c : *v)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+        throw Error(located(file, line(*n), std::string("'") + key + "' must not hold control characters"));
     return *v;
   }
 
@@ -130,7 +134,8 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
     level.plane = Plane2d::Top;
   else
     throw Error(located(fileName, r.line(*root.get("plane")), "'plane' must be \"side\" or \"top\""));
-  level.timeLimit = r.number(root, "time_limit", 0.0, false, 0.0, 86400.0);
+  // play runs a game level to its time limit + 0.5 s, and at most 86400 s
+  level.timeLimit = r.number(root, "time_limit", 0.0, false, 0.0, 86399.0);
 
   if (const toml::node* g = root.get("ground")) {
     const toml::table& t = r.table(*g, "[ground]");

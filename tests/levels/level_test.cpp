@@ -58,6 +58,15 @@ TEST(LevelLoader, UnknownKeyReportsItsLine) {
   EXPECT_NE(e.find("x.toml:6: unknown key 'colur'"), std::string::npos) << e;
 }
 
+// a time limit play could not reach (it runs to the limit + 0.5 s, at most 86400 s), and a name that would print an
+// escape sequence into a summary, are refused at their line
+TEST(LevelLoader, UnplayableTimeLimitsAndControlCharactersAreRejected) {
+  EXPECT_NE(errorOf("name = \"a\"\ntime_limit = 86399.7\n").find("x.toml:2:"), std::string::npos);
+  EXPECT_EQ(errorOf("name = \"a\"\ntime_limit = 86399\n"), "");
+  const std::string e = errorOf("name = \"a\\u001b[31mred\"\n");
+  EXPECT_NE(e.find("x.toml:1: 'name' must not hold control characters"), std::string::npos) << e;
+}
+
 TEST(LevelLoader, NegativeSizeIsRejected) {
   const std::string e = errorOf("name = \"a\"\n[[box]]\ncentre = [0, 0, 0.5]\nsize = [1, -1, 1]\n");
   EXPECT_NE(e.find("x.toml:4:"), std::string::npos) << e;
