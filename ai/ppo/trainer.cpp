@@ -270,6 +270,7 @@ std::string Trainer::logRow(const TrainerProgress& p, const RolloutStats& r, dou
 
 void Trainer::run() {
   engine::makeDirectories(options_.runDir);
+  engine::removeStaleTemps(options_.runDir);  // a checkpoint write cut short by a kill left its 7 MB temp
   const std::string logPath = options_.runDir + "/log.csv";
   const std::string checkpointPath = options_.runDir + "/checkpoint.bin";
   double wallOffset = 0;

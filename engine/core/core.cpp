@@ -82,6 +82,30 @@ void writeFileAtomic(const std::string& path, std::string_view bytes) {
     ::unlink(tmp.c_str());
     throw Error(path + ": cannot rename into place: " + std::strerror(e));
   }
+  // the rename itself survives a power cut once the folder is synced too (best effort: not every file system allows it)
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  const int dirFd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (dirFd >= 0) {
+    ::fsync(dirFd);
+    ::close(dirFd);
+  }
+}
+
+int removeStaleTemps(const std::string& dir) {
+  // writeFileAtomic's temps are NAME.tmp.PID; one left by a process that was killed mid-write is not ours
+  int removed = 0;
+  std::error_code ec;
+  const std::string mine = ".tmp." + std::to_string(::getpid());
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const size_t at = name.rfind(".tmp.");
+    if (at == std::string::npos || at + 5 >= name.size() || !entry.is_regular_file(ec)) continue;
+    if (name.find_first_not_of("0123456789", at + 5) != std::string::npos ||
+        name.compare(at, std::string::npos, mine) == 0)
+      continue;
+    if (std::filesystem::remove(entry.path(), ec)) ++removed;
+  }
+  return removed;
 }
 
 std::string projectFile(const std::string& relative) {

@@ -15,6 +15,10 @@ std::string readFile(const std::string& path);
 /// (the temp file is removed and any existing file at path is left untouched).
 void writeFileAtomic(const std::string& path, std::string_view bytes);
 
+/// Removes the temps (NAME.tmp.PID) that writeFileAtomic left in `dir` when a process was killed while writing;
+/// returns how many. This process's own are kept.
+int removeStaleTemps(const std::string& dir);
+
 /// A project file by its path relative to the source tree: as given if it exists from the working directory,
 /// else under the source tree this binary was built from (so build/treelearn works from any folder).
 std::string projectFile(const std::string& relative);
