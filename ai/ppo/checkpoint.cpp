@@ -1,8 +1,10 @@
 // checkpoint.cpp — the versioned, checksummed container and the two payloads (policy file, checkpoint).
 #include "ai/ppo/checkpoint.h"
 
+#include <cmath>
 #include <cstring>
 #include <sstream>
+#include <string>
 
 #include "ai/nn/byte_io.h"
 #include "engine/core/error.h"
@@ -69,6 +71,23 @@ PolicyState readPolicyState(ByteReader* in) {
     in->fail("actor, critic and normaliser disagree on the observation size");
   if (p.critic.outputSize() != 1) in->fail("critic must have one output");
   if (p.logStd.size() != p.actor.outputSize()) in->fail("log-std size does not match the actor's output");
+  // a valid checksum over numbers that cannot have come from training: refused here, with the field, rather than as
+  // a NaN model or a first iteration that dies without saying why
+  auto finiteMlp = [&](const MlpWeights& m, const char* what) {
+    for (int l = 0; l < m.layers(); ++l)
+      if (!m.W[size_t(l)].allFinite() || !m.b[size_t(l)].allFinite())
+        in->fail(std::string(what) + " layer " + std::to_string(l + 1) + " holds a non-finite weight");
+  };
+  finiteMlp(p.actor, "actor");
+  finiteMlp(p.critic, "critic");
+  if (!p.logStd.allFinite()) in->fail("log-std is not finite");
+  if (!p.normalizer.mean().allFinite()) in->fail("normaliser mean is not finite");
+  if (!p.normalizer.variance().allFinite() || (p.normalizer.variance().array() < 0).any())
+    in->fail("normaliser variance is negative or not finite");
+  if (!std::isfinite(p.normalizer.count()) || !(p.normalizer.count() > 0))
+    in->fail("normaliser count is not a positive number");
+  if (!std::isfinite(p.normalizer.clip()) || !(p.normalizer.clip() > 0))
+    in->fail("normaliser clip is not a positive number");
   return p;
 }
 

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <functional>
 
 #include "ai/nn/byte_io.h"
 #include "engine/core/error.h"
@@ -82,6 +84,31 @@ TEST(Checkpoint, DamagedFilesAreRejectedWithReason) {
   savePolicyState(path, c.policy);  // a policy file is not a checkpoint
   EXPECT_EQ(errorLoading(path), path + ": not a treelearn checkpoint file (bad magic)");
   std::filesystem::remove_all(dir);
+}
+
+// a file whose checksum is valid but whose numbers cannot have come from training is refused, naming the field
+TEST(Checkpoint, NonFiniteWeightsOrStatisticsAreRefusedWithTheField) {
+  const std::string dir = tempDir();
+  auto errorOf = [&](const std::function<void(PolicyState*)>& spoil) {
+    PolicyState p = smallPolicy();
+    spoil(&p);
+    savePolicyState(dir + "/p.bin", p, {});
+    try {
+      loadPolicyState(dir + "/p.bin");
+    } catch (const engine::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(errorOf([](PolicyState* p) {
+              p->actor.W[1](0, 0) = std::nanf("");
+            }).find("actor layer 2 holds a non-finite weight"),
+            std::string::npos);
+  EXPECT_NE(
+      errorOf([](PolicyState* p) { p->critic.b[0](1) = INFINITY; }).find("critic layer 1 holds a non-finite weight"),
+      std::string::npos);
+  EXPECT_NE(errorOf([](PolicyState* p) { p->logStd(0) = INFINITY; }).find("log-std is not finite"), std::string::npos);
+  EXPECT_EQ(errorOf([](PolicyState*) {}), "");
 }
 
 TEST(Checkpoint, EveryShippedPolicyFileStillLoads) {
