@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "ai/ppo/checkpoint.h"
 #include "ai/ppo/ppo.h"
@@ -45,6 +46,28 @@ struct EvalOptions {
   std::string samplePolicy;  ///< policy file: the card with actions drawn from its Gaussian, as training acts
   std::string only;          ///< switches: only the switches into or out of this skill
 };
+
+/// `treelearn entries record` options.
+struct EntriesRecordOptions {
+  std::string level = "levels/mario";     ///< the game level played
+  uint64_t firstSeed = 1, lastSeed = 20;  ///< autopilot seeds
+  std::vector<std::string> keys;          ///< key scripts also played (a path, or a file name inside the level folder)
+  std::string out = "runs/entries";       ///< folder for SKILL.entries
+  int threads = 2;
+};
+/// Plays the runs, records every handover (game/entry_recorder.h) and writes OUT/SKILL.entries per skill.
+int runEntriesRecord(const EntriesRecordOptions& options);
+
+/// `treelearn entries card` options.
+struct EntriesCardOptions {
+  std::string dir;    ///< folder holding SKILL.entries files
+  std::string skill;  ///< only this skill ("" = every skill with an entries file)
+  std::string model;  ///< ONNX file to use as `skill`'s model instead of the shipped one
+  int threads = 2;
+  bool verbose = false;  ///< list the entries that fell
+};
+/// Prints each skill's play-entry card (game/entry_card.h) beside its own card's recorded figure.
+int runEntriesCard(const EntriesCardOptions& options);
 
 /// `treelearn ship` options.
 struct ShipOptions {

@@ -1,5 +1,5 @@
-// main.cpp — the treelearn command line: play, replay, variant, bench, train, eval, ship, tree. Parses arguments with
-// CLI11, turns engine::Error into "error: ..." and exit code 2.
+// main.cpp — the treelearn command line: play, replay, variant, bench, entries, train, eval, ship, tree. Parses
+// arguments with CLI11, turns engine::Error into "error: ..." and exit code 2.
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
 #include <cmath>
@@ -458,6 +458,36 @@ int main(int argc, char** argv) {
       ->required();
   variantCmd->add_option("--out", variant.out, "Folder to write level.toml into (created if missing)")->required();
 
+  apps::EntriesRecordOptions entriesRecord;
+  apps::EntriesCardOptions entriesCard;
+  CLI::App* entriesCmd = app.add_subcommand(
+      "entries", "Play's handover states: record them from autopilot runs and key scripts, run the play-entry cards");
+  entriesCmd->require_subcommand(1);
+  CLI::App* entriesRecordCmd = entriesCmd->add_subcommand(
+      "record", "Play a game level by autopilot (and key scripts) and write every handover into OUT/SKILL.entries");
+  entriesRecordCmd->add_option("--level", entriesRecord.level, "The game level (default levels/mario)");
+  entriesRecordCmd->add_option("--first-seed", entriesRecord.firstSeed, "First autopilot seed (default 1)")
+      ->check(seedNumber);
+  entriesRecordCmd->add_option("--last-seed", entriesRecord.lastSeed, "Last autopilot seed (default 20)")
+      ->check(seedNumber);
+  entriesRecordCmd->add_option("--keys", entriesRecord.keys,
+                               "Key scripts to play too (a path, or a file name inside the level folder); repeatable");
+  entriesRecordCmd->add_option("--out", entriesRecord.out, "Folder for the SKILL.entries files (default runs/entries)");
+  entriesRecordCmd->add_option("--threads", entriesRecord.threads, "Runs played side by side (default 2)")
+      ->check(CLI::Range(1, 64));
+  CLI::App* entriesCardCmd = entriesCmd->add_subcommand(
+      "card", "Start each skill from its recorded handover states, replay the keys, and count the ones that held");
+  entriesCardCmd->add_option("dir", entriesCard.dir, "Folder holding SKILL.entries files")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  entriesCardCmd->add_option("--skill", entriesCard.skill, "Only this skill");
+  entriesCardCmd
+      ->add_option("--model", entriesCard.model,
+                   "ONNX file to run as --skill's model instead of the shipped one (a run's export)")
+      ->check(CLI::ExistingFile);
+  entriesCardCmd->add_option("--threads", entriesCard.threads, "Threads (default 2)")->check(CLI::Range(1, 64));
+  entriesCardCmd->add_flag("--verbose", entriesCard.verbose, "List the entries that fell");
+
   apps::BenchOptions bench;
   CLI::App* benchCmd = app.add_subcommand("bench", "Measure physics, rendering and play throughput");
   benchCmd->add_option("--seconds", bench.seconds, "Simulated seconds per physics measurement")
@@ -593,6 +623,13 @@ int main(int argc, char** argv) {
     if (*replayCmd) return cmdReplay(replay);
     if (*variantCmd) return cmdVariant(variant);
     if (*benchCmd) return apps::runBench(bench);
+    if (*entriesRecordCmd) {
+      if (entriesRecord.lastSeed < entriesRecord.firstSeed)
+        throw engine::Error("--last-seed " + std::to_string(entriesRecord.lastSeed) + " is before --first-seed " +
+                            std::to_string(entriesRecord.firstSeed));
+      return apps::runEntriesRecord(entriesRecord);
+    }
+    if (*entriesCardCmd) return apps::runEntriesCard(entriesCard);
     if (*trainCmd && !train.exportOnly && trainCmd->count("--export-from"))
       throw engine::Error(
           "--export-from picks what --export-only exports: give --export-only too (no training runs then)");

@@ -73,6 +73,12 @@ class Course {
   double ghostDistance() const { return ghostDistance_; }
   /// Ball id of the level's first ball, -1 if none (the kick's target).
   engine::BallId firstBall() const { return balls_.empty() ? -1 : balls_.front().id; }
+  /// The level's balls' ids, in level order.
+  std::vector<engine::BallId> ballIds() const {
+    std::vector<engine::BallId> ids;
+    for (const Ball& b : balls_) ids.push_back(b.id);
+    return ids;
+  }
   const std::vector<CourseEvent>& events() const { return events_; }
 
   /// Adds the course's moving and collectable things to a snapshot (static boxes are drawn by the Session).

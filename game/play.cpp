@@ -42,6 +42,7 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     const Eigen::Vector3d before = session.sensors().basePosition;
     result.keyEvents.insert(result.keyEvents.end(), events.begin(), events.end());
     session.step(events);
+    if (options.entries) options.entries->afterTick(session, events);
     const int64_t done = session.tick();  // ticks completed
     if (garden) {
       const robot::Sensors& sensed = session.sensors();
@@ -106,6 +107,7 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     result.garden.noPath = t.noPath, result.garden.replans = t.replans;
     result.garden.targets = t.targets;
   }
+  if (options.entries) options.entries->finish(session);
   result.ticks = session.tick();
   result.fallen = session.fallen();
   result.fallTick = session.fallTick();

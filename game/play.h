@@ -12,6 +12,7 @@
 #include "engine/input/key_script.h"
 #include "engine/render/scene_snapshot.h"
 #include "engine/replay/replay.h"
+#include "game/entry_recorder.h"
 #include "game/session.h"
 
 namespace game {
@@ -30,6 +31,7 @@ struct PlayOptions {
   bool autopilot = false;                   ///< the autopilot presses the keys (after any scripted events); on a
                                             ///< map (plane = top, no [rules]) the garden pilot (game/garden_pilot.h)
   std::vector<Eigen::Vector2d> targets;     ///< the garden pilot's targets in order (empty: drawn from the seed)
+  EntryRecorder* entries = nullptr;         ///< records play's handover states (game/entry_recorder.h), or none
 };
 
 /// The garden pilot's run (a map level played with autopilot), at 50 Hz and in total.

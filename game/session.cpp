@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/loop/clock.h"
 #include "engine/plane/plane_tags.h"
@@ -117,6 +118,40 @@ void Session::respawn(double x) {
   runtime_.fadeTicks = 0;
   runtime_.restWaitTicks = -1;
   runtime_.postureWaitTicks = 0;
+}
+
+robot::EntryState Session::captureEntry() const {
+  if (!runtime_.active)
+    throw engine::Error("captureEntry: no skill is active (the standing controller holds the robot)");
+  robot::EntryState e;
+  e.skill = runtime_.active->def.name;
+  e.tick = tick_ - 1;  // the tick just stepped
+  physics_.readState(robot_->id(), &e.body);
+  if (course_)
+    for (const engine::BallId id : course_->ballIds()) e.balls.push_back(physics_.ballState(id));
+  e.runtime = runtime_;
+  e.runtime.active = nullptr, e.runtime.fadingFrom = nullptr;
+  e.fadingFrom = runtime_.fadingFrom ? runtime_.fadingFrom->def.name : std::string();
+  e.keys = input_.state();
+  e.limits = input_.limits();
+  return e;
+}
+
+void Session::restoreEntry(const robot::EntryState& entry) {
+  if (!skills_) throw engine::Error("a play-entry state needs the skills loaded");
+  const std::vector<engine::BallId> balls = course_ ? course_->ballIds() : std::vector<engine::BallId>{};
+  if (entry.balls.size() != balls.size())
+    throw engine::Error("an entry of " + entry.level + " (seed " + std::to_string(entry.seed) + ", tick " +
+                        std::to_string(entry.tick) + ") holds " + std::to_string(entry.balls.size()) +
+                        " balls, the level " + std::to_string(balls.size()));
+  runtime_ = robot::entryRuntime(entry, *skills_);
+  physics_.setState(robot_->id(), entry.body);
+  for (size_t i = 0; i < balls.size(); ++i) physics_.setBallState(balls[i], entry.balls[i]);
+  input_.restore(entry.keys);
+  input_.setLimits(entry.limits);
+  sensors_ = robot_->sense(physics_);
+  tick_ = entry.tick + 1;
+  fallen_ = down_ = false, fallTick_ = -1, stuckTicks_ = 0;
 }
 
 double Session::seconds() const { return double(tick_) * engine::kTickSeconds; }

@@ -20,6 +20,7 @@
 #include "engine/render/scene_snapshot.h"
 #include "game/course.h"
 #include "levels/level.h"
+#include "robot/entry_state.h"
 #include "robot/robot.h"
 #include "robot/skill_runtime.h"
 
@@ -106,6 +107,14 @@ class Session {
   const robot::SkillSet* skills() const { return skills_; }
   /// The runtime's state (the active skill, its clock, a waiting switch).
   const robot::SkillState& runtime() const { return runtime_; }
+  /// This tick's state as a play-entry state (robot/entry_state.h): the robot, the balls, the runtime and the keys;
+  /// the caller fills the rest (level, source, seed, the segment and its events). Needs an active skill.
+  robot::EntryState captureEntry() const;
+  /// Continues from a play-entry state recorded on this session's level: the robot, the balls, the runtime (its
+  /// skills looked up by name in the loaded set) and the keys as the entry left them, the session's clock at the tick
+  /// after the entry's. Throws engine::Error if no skills are loaded or the entry's skill is not among them, or the
+  /// entry holds another number of balls than the level.
+  void restoreEntry(const robot::EntryState& entry);
   /// The game rules of a game level (nullptr for other levels).
   const Course* course() const { return course_.get(); }
   /// Playing, or won / lost (game levels only).

@@ -80,6 +80,8 @@ class CommandInput {
 
   /// Sets vx, vy and wz to 0 (a robot put back at rest, e.g. a respawn): held keys ramp them up again from there.
   void stopMotion() { state_.vx = state_.vy = state_.wz = 0.0; }
+  /// Puts the command where `state` says (a play-entry state restored): held keys as its keysHeld, no taps pending.
+  void restore(const CommandState& state) { state_ = state, tapped_ = 0; }
 
   /// Lowers the amplitude by one tick of its rate toward 0 (a skill that starts from the default pose waits for a
   /// squat's depth or a one-leg lift to come back); R held raises it again.
