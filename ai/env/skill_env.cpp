@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 #include "ai/env/ball_task.h"
 #include "ai/env/terrain.h"
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/input/command.h"
 #include "engine/loop/clock.h"
 
@@ -69,7 +71,12 @@ struct SkillEnv::Env {
   Eigen::Vector2d kickDirection = Eigen::Vector2d::UnitX();
   std::array<float, robot::kObservationSize> finalObservation{};
   Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // hold_position: where a zero command (or a push) began
-  double yawRateSmoothed = 0;                        // line_turn: the world yaw rate, low-passed over kLineTurnSeconds
+  const robot::EntryState* entry = nullptr;          // a play episode: the handover state it started from
+  engine::CommandInput keys;                         // ... its keys, replayed from the entry's segment
+  size_t nextEvent = 0;
+  int playTicks = 0;           // ... its length [ticks]
+  bool waitsForStill = false;  // ... and whether its keys ask for a still skill (a jump then holds its closing stand)
+  double yawRateSmoothed = 0;  // line_turn: the world yaw rate, low-passed over kLineTurnSeconds
 };
 
 SkillEnv::SkillEnv(const robot::RobotModel& model, const SkillSpec& skill, const std::string& treePath,
@@ -92,6 +99,20 @@ SkillEnv::SkillEnv(const robot::RobotModel& model, const SkillSpec& skill, const
       throw engine::Error("skill '" + skill_.name + "' trains handover episodes from '" + skill_.handoverBackFrom +
                           "': the environment needs that skill's policy");
     backChild_ = *options_.back.skill;
+  }
+  if (skill_.playShare > 0) {
+    const std::string dir = std::filesystem::path(treePath).parent_path().string();
+    const std::string path = (dir.empty() ? std::string() : dir + "/") + skill_.playEntries;
+    for (robot::EntryState& e : robot::loadEntries(path))
+      if (e.skill == skill_.name) playEntries_.push_back(std::move(e));
+    if (playEntries_.empty())
+      throw engine::Error(path + ": no handover state into '" + skill_.name + "' ([training] play_entries)");
+    for (const robot::EntryState& e : playEntries_) {
+      std::unique_ptr<levels::Level>& level = playLevels_[e.level];
+      if (!level) level = std::make_unique<levels::Level>(levels::loadLevel(engine::projectFile(e.level)));
+    }
+    for (const robot::SkillDef& d : robot::loadSkillTree(treePath, model).skills) playSet_.skills.push_back({d, {}});
+    for (const robot::EntryState& e : playEntries_) robot::entryRuntime(e, playSet_);  // every skill named is known
   }
   for (int i = 0; i < options.numEnvs; ++i) {
     envs_.push_back(std::make_unique<Env>());
@@ -191,6 +212,9 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   }
   e.robot.reset();
   e.world = std::make_unique<engine::PhysicsWorld>();
+  e.entry = nullptr;
+  // [training] play_share: a play episode (drawn only when asked for, so other skills' episodes are unchanged)
+  if (!playEntries_.empty() && allowHandover && unit(e.rng) < skill_.playShare) return startFromEntry(e, friction);
   e.world->addGround(friction);
   addTerrain(*e.world, skill_.terrain, stepHeight(), friction);
   // on stairs the robot starts facing them (+X, within +-0.2 rad); elsewhere any heading
@@ -258,6 +282,63 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
                        ? int(std::lround((0.5 + unit(e.rng)) * pushEvery / engine::kTickSeconds))
                        : INT32_MAX;
   advanceCommand(e);
+}
+
+// a play episode: the level's static geometry, the robot and the runtime as the entry left them (the joints' speeds
+// jittered by up to kPlayJitter so that repeated draws of an entry differ), the keys' state and the segment's events
+void SkillEnv::startFromEntry(Env& e, double friction) {
+  constexpr double kPlayJitter = 0.1;  // [rad/s]
+  const robot::EntryState& entry = playEntries_[size_t(e.rng() % playEntries_.size())];
+  const levels::Level& level = *playLevels_.at(entry.level);
+  e.world->addGround(friction);
+  for (const levels::BoxDef& b : level.boxes)
+    e.world->addStaticBox(b.centre, Eigen::Quaterniond(Eigen::AngleAxisd(b.yaw, Eigen::Vector3d::UnitZ())),
+                          0.5 * b.size, b.friction);
+  for (const levels::QuestionBoxDef& q : level.questionBoxes)  // as the course adds them
+    e.world->addStaticBox(q.centre, Eigen::Quaterniond::Identity(), 0.5 * q.size, 1.0);
+  e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0.0, 0.0, 0.0);
+  engine::ArticulationState body = entry.body;
+  for (double& v : body.qd) v += kPlayJitter * (2.0 * unit(e.rng) - 1.0);
+  e.world->setState(e.robot->id(), body);
+  e.sensors = e.robot->sense(*e.world);
+  e.state = robot::entryRuntime(entry, playSet_);
+  e.state.active = &trainee_;  // (its policy runs batched, outside)
+  e.previousAction = e.state.action;
+  e.entry = &entry;
+  e.keys = engine::CommandInput(entry.limits);
+  e.keys.restore(entry.keys);
+  e.nextEvent = 0;
+  const int maxTicks = int(std::lround(skill_.termination.episodeSeconds / engine::kTickSeconds));
+  e.playTicks =
+      std::min(maxTicks, int(entry.segmentTicks) + int(std::lround(kPlayEpisodeMarginSeconds / engine::kTickSeconds)));
+  e.ball = -1;
+  e.headingSteered = false;
+  e.tick = 0;
+  e.yawRateSmoothed = 0;
+  e.liftAskedTicks = 0;
+  e.episodeReturn = 0;
+  e.steer = 0, e.keysWz = 0;
+  e.anchor = e.sensors.basePosition.head<2>();
+  e.nextPushTick = INT32_MAX, e.nextCommandTick = INT32_MAX;
+  playCommand(e);
+}
+
+// the play episode's next tick of keys, as play's input and control systems take them: the segment's events of the
+// tick, the keys' ramp, then the runtime's shapeCommand (heading hold, a ground skill's line steer); skill keys are
+// not followed (the skill being trained stays in control)
+void SkillEnv::playCommand(Env& e) const {
+  const std::vector<engine::KeyEvent>& events = e.entry->events;
+  const int64_t tick = e.entry->tick + 1 + e.tick;
+  for (; e.nextEvent < events.size() && events[e.nextEvent].tick <= tick; ++e.nextEvent)
+    if (events[e.nextEvent].tick == tick) e.keys.apply(events[e.nextEvent]);
+  e.keys.tick();
+  const engine::CommandState& c = e.keys.state();
+  robot::SwitchRequest request;
+  request.vx = c.vx, request.vy = c.vy, request.wz = c.wz, request.amplitude = c.amplitude;
+  request.vRate = e.keys.limits().vRate, request.wzRate = e.keys.limits().wzRate;
+  e.command = robot::shapeCommand(&e.state, e.sensors, request);
+  const robot::Skill* wanted = c.skillRequest >= 0 ? playSet_.byKey(c.skillRequest) : nullptr;
+  e.waitsForStill = wanted && wanted->def.name != skill_.name && robot::waitsForStill(e.state, wanted);
 }
 
 // The command moves one tick toward its draw before it is observed, as the keys ramp before play's control step:
@@ -381,7 +462,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
 
     // control: the runtime's step from the policy's output (filtered action, clock, prior, a handover's fade)
     robot::PdCommand pd;
-    robot::act(e.model, &e.state, actions.col(i).data(), e.command, false, &pd);
+    robot::act(e.model, &e.state, actions.col(i).data(), e.command, e.entry && e.waitsForStill, &pd);
     e.robot->setCommand(pd);
     const auto t0 = std::chrono::steady_clock::now();
     robot::stepPhysicsTick(*e.robot, *e.world);
@@ -393,19 +474,21 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       ballIntoCommand(e.sensors, e.ballState, &e.command);
     }
 
-    // [commands] line_steer: steered back toward the line as the crawl card (and a player) steers
-    if (skill_.commands.lineSteer > 0) {
+    if (e.entry) {
+      // a play episode's command is its keys' (playCommand: shapeCommand steers as play does)
+    } else if (skill_.commands.lineSteer > 0) {
+      // [commands] line_steer: steered back toward the line as the crawl card (and a player) steers
       robot::SkillCommand line;
       robot::lineIntoCommand(e.sensors, e.state.lineStart, e.state.lineAlong, &line);
       e.command.wz = robot::steerTowardLine(skill_.commands, skill_.commands.lineSteer, line, &e.state.lineSteerError);
-    }
-    // [training] heading_steer: squared up to +X as the stairs card (and play's heading hold) steers
-    else if (e.headingSteered)
+    } else if (e.headingSteered) {
+      // [training] heading_steer: squared up to +X as the stairs card (and play's heading hold) steers
       e.command.wz = robot::squareToPlusX(e.sensors.yaw, skill_.headingSteer, skill_.commands);
-    // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead (not a steer back
-    // toward the line)
-    else if (e.command.wz != 0.0)
+    } else if (e.command.wz != 0.0) {
+      // heading_hold's heading turns with the commanded yaw rate: facing where the commands lead (not a steer back
+      // toward the line)
       e.state.lineAlong = Eigen::Rotation2Dd(e.command.wz * engine::kTickSeconds) * e.state.lineAlong;
+    }
 
     const double yawRate = (e.sensors.baseRotation * e.sensors.angularVelocity).z();
     e.yawRateSmoothed += (yawRate - e.yawRateSmoothed) * engine::kTickSeconds / kLineTurnSeconds;
@@ -459,12 +542,14 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       if (e.liftAskedTicks >= graceTicks && e.sensors.footContact[1]) fell = true;
     }
     e.terminated = fell;
-    e.truncated = !fell && e.tick >= maxTicks;
+    e.truncated = !fell && e.tick >= (e.entry ? e.playTicks : maxTicks);
     if (e.terminated || e.truncated) {
       observe(e, e.finalObservation.data());
       e.finishedReturn = e.episodeReturn;
       e.finishedLength = e.tick;
       resetEnv(e);
+    } else if (e.entry) {
+      playCommand(e);
     } else {
       advanceCommand(e);
     }

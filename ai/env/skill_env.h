@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <random>
 #include <vector>
@@ -13,6 +14,8 @@
 #include "ai/rewards/reward_terms.h"
 #include "ai/tree/training_tree.h"
 #include "engine/core/worker_pool.h"
+#include "levels/level.h"
+#include "robot/entry_state.h"
 #include "robot/skill_runtime.h"
 
 namespace ai {
@@ -72,6 +75,10 @@ struct EpisodeStats {
   double yawErrorSum = 0;    ///< sum over ticks of |wz - wz_cmd| [rad/s]
 };
 
+/// A play episode ([training] play_share) runs its entry's segment and this much more [s] (a segment that ended in
+/// a fall in play ends there: the episode then shows what follows it).
+constexpr double kPlayEpisodeMarginSeconds = 2.0;
+
 class SkillEnv final : public VecEnv {
  public:
   SkillEnv(const robot::RobotModel& model, const SkillSpec& skill, const std::string& treePath,
@@ -112,6 +119,8 @@ class SkillEnv final : public VecEnv {
  private:
   struct Env;
   void resetEnv(Env& e, bool allowHandover = true);
+  void startFromEntry(Env& e, double friction);  // a play episode (playEntries_)
+  void playCommand(Env& e) const;                // a play episode's keys one tick on, shaped as play does
   bool handOver(Env& e, bool back, robot::SkillCommand* commandAtSwitch);
   void sampleCommand(Env& e);
   void steerCommand(Env& e) const;
@@ -122,13 +131,17 @@ class SkillEnv final : public VecEnv {
   void applyLesson();  // a command curriculum's values for lesson_ into skill_
 
   robot::RobotModel model_;
-  SkillSpec skill_;                  // the tree entry with the current lesson applied (see applyLesson)
-  SkillSpec treeSkill_;              // the tree entry as written
-  SkillSpec parent_;                 // handover episodes only: the skill that drives first
-  std::vector<SkillSpec> via_;       // ... the skills routed through after it
-  SkillSpec backChild_;              // handover episodes from a child: the child that drives first
-  SkillSpec backSkill_;              // ... and this skill as that route switches into it (handover_back_s as its drive)
-  robot::Skill trainee_;             // skill_ as the runtime runs it (its policy runs outside, batched)
+  SkillSpec skill_;             // the tree entry with the current lesson applied (see applyLesson)
+  SkillSpec treeSkill_;         // the tree entry as written
+  SkillSpec parent_;            // handover episodes only: the skill that drives first
+  std::vector<SkillSpec> via_;  // ... the skills routed through after it
+  SkillSpec backChild_;         // handover episodes from a child: the child that drives first
+  SkillSpec backSkill_;         // ... and this skill as that route switches into it (handover_back_s as its drive)
+  robot::Skill trainee_;        // skill_ as the runtime runs it (its policy runs outside, batched)
+  // play episodes: the skill's handover states, their levels by path, and the tree's skills (a fading prior's)
+  std::vector<robot::EntryState> playEntries_;
+  std::map<std::string, std::unique_ptr<levels::Level>> playLevels_;
+  robot::SkillSet playSet_;
   HandoverRoute route_, backRoute_;  // parent_ then via_ into skill_; backChild_ into backSkill_
   void makeRoutes();
   std::vector<WeightedTerm> terms_;

@@ -118,6 +118,10 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
           skill.handoverViaSeconds.lo, skill.handoverViaSeconds.hi);
     }
   }
+  if (skill.playShare > 0)
+    say(log, "play episodes: %.0f %% start from play's handover states (%s/%s)%s\n", 100 * skill.playShare,
+        l.tree.directory.c_str(), skill.playEntries.c_str(),
+        skill.handover + skill.handoverBack > 0 ? "; the handover shares above are of the other episodes" : "");
   std::shared_ptr<LoadedPolicy> backPolicy;
   if (skill.handoverBack > 0) {  // episodes that start under a child's shipped model (the way back up the tree)
     const SkillSpec* child = l.tree.find(skill.handoverBackFrom);

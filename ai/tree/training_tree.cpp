@@ -109,7 +109,7 @@ void parseTraining(const TreeReader& r, const toml::table& tr, const std::string
   r.onlyKeys(tr,
              {"steps", "envs", "only_positive_rewards", "handover", "handover_s", "handover_from", "handover_via_s",
               "handover_vx", "handover_back", "handover_back_from", "handover_back_s", "line_jitter", "heading_steer",
-              "heading_steer_share"},
+              "heading_steer_share", "play_entries", "play_share"},
              where + ".training");
   if (const toml::node* op = tr.get("only_positive_rewards")) {
     auto b = op->value<bool>();
@@ -135,6 +135,18 @@ void parseTraining(const TreeReader& r, const toml::table& tr, const std::string
     throw Error(located(r.file, r.line(*tr.get("handover")), where + ".training.handover needs a parent skill"));
   parseTrainingSteers(r, tr, where, s);
   parseHandoverBack(r, tr, where, s);
+  s->playShare = r.number(tr, "play_share", 0, 0, 1, where + ".training");
+  if (const toml::node* pe = tr.get("play_entries")) {
+    const std::optional<std::string> name = pe->value<std::string>();
+    if (!name || name->empty() || name->find_first_of("/\\") != std::string::npos || *name == "." || *name == "..")
+      throw Error(located(r.file, r.line(*pe),
+                          where + ".training.play_entries must be a file name in the tree's folder (no path)"));
+    s->playEntries = *name;
+  }
+  if ((s->playShare > 0) != !s->playEntries.empty())
+    throw Error(located(r.file, r.line(tr),
+                        where + ".training: play_share and play_entries go together (the share of episodes that "
+                                "start from play's handover states, and the file holding them)"));
 }
 
 // [skill.NAME.ball]; after [commands] (the ball takes the aux command slots)

@@ -133,6 +133,13 @@ struct SkillSpec : robot::SkillDef {
   /// heading_steer_share = p: the share of training episodes that heading_steer steers (drawn per episode; the rest
   /// keep their drawn turns, so the skill learns to walk the stairs squared up and to recover from a turn as well)
   double headingSteerShare = 1.0;
+  /// play_entries = "FILE" (a file in the tree's folder, written by `treelearn entries record`) and play_share = p:
+  /// this share of training episodes starts from one of play's handover states into the skill (robot/entry_state.h),
+  /// drawn at random, on the level it was recorded on, with the segment's movement keys shaping the command as play
+  /// does (robot::shapeCommand) until the segment ends plus kPlayEpisodeMarginSeconds; no pushes, no drawn commands.
+  /// The handover (and handover_back) share is drawn among the other episodes.
+  std::string playEntries;
+  double playShare = 0;
   CardDef card;
   TerrainDef terrain;
   CurriculumDef curriculum;

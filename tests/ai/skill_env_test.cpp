@@ -6,10 +6,12 @@
 
 #include <atomic>
 #include <cmath>
+#include <filesystem>
 #include <set>
 
 #include "ai/env/terrain.h"
 #include "engine/core/error.h"
+#include "robot/entry_state.h"
 #include "robot/skill_runtime.h"
 
 namespace {
@@ -931,5 +933,102 @@ TEST(SkillEnv, SpawnAlongStartsEpisodesStandingOnTheTreadsUpAndDown) {
       EXPECT_EQ(r.terminated[i], 0) << i;
       EXPECT_LT(std::abs(r.observations(robot::kObsLinearVelocity + 2, i)), 0.3f) << "env " << i << " step " << s;
     }
+  }
+}
+
+namespace {
+
+// a handover into the stairs on levels/steps, 0.8 m before its first riser (x = 11.55, rise 0.10) at y = 2.2, W held
+// at 0.3 m/s, released 0.5 s after the entry; the segment 1 s long
+robot::EntryState stairsEntry() {
+  const robot::RobotModel& model = fixture().model;
+  robot::EntryState e;
+  e.skill = "stairs";
+  e.level = kSource + "/levels/steps";
+  e.source = "test";
+  e.tick = 1000;
+  e.segmentTicks = 100;
+  e.body.basePosition = Eigen::Vector3d(10.75, 2.2, model.spawnHeight);
+  for (const robot::JointInfo& j : model.joints) e.body.q.push_back(j.defaultPosition);
+  e.body.qd.assign(robot::kNumJoints, 0.0);
+  for (int j = 0; j < robot::kActionSize; ++j) e.runtime.action[size_t(j)] = 0.01f * float(j);
+  e.runtime.phase.tp = 12;
+  e.fadingFrom = "walk";
+  e.runtime.fadeTicks = 10;
+  e.keys.skillRequest = 2;
+  e.keys.vx = 0.3;
+  e.keys.keysHeld = engine::keyMask('W');
+  e.limits.vxForward = 0.5;
+  e.events = {{1050, engine::KeyAction::kUp, 'W'}};
+  return e;
+}
+
+// the shipped tree, copied into a temp folder with the entry beside it, and the stairs as it would read
+// `play_share = 1` and `play_entries = "stairs.entries"`, never ending by itself
+struct PlayFixture {
+  std::string treePath;
+  ai::SkillSpec stairs;
+  PlayFixture() {
+    const std::string dir = testing::TempDir() + "/play_episodes";
+    std::filesystem::create_directories(dir);
+    treePath = dir + "/tree.toml";
+    std::filesystem::copy_file(kSource + "/assets/skills/tree.toml", treePath,
+                               std::filesystem::copy_options::overwrite_existing);
+    robot::saveEntries(dir + "/stairs.entries", {stairsEntry()});
+    stairs = *fixture().tree.find("stairs");
+    stairs.playShare = 1.0;
+    stairs.playEntries = "stairs.entries";
+    stairs.handover = 0;
+    neverEnds(&stairs);
+  }
+};
+
+}  // namespace
+
+TEST(PlayEpisodes, StartWhereTheEntryLeftTheRobotOnItsLevelAndFollowItsKeys) {
+  const PlayFixture f;
+  ai::SkillEnv env(fixture().model, f.stairs, f.treePath, envOptions(2, 1, false));
+  Eigen::MatrixXf obs;
+  env.reset(3, &obs);
+  const robot::EntryState e = stairsEntry();
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < robot::kNumJoints; ++j) {
+      EXPECT_NEAR(obs(robot::kObsJointPosition + j, i), 0.0f, 1e-5f) << j;           // the default pose, as the entry's
+      EXPECT_LE(std::abs(obs(robot::kObsJointVelocity + j, i)), 0.1f + 1e-4f) << j;  // its 0 jittered by <= 0.1
+      EXPECT_EQ(obs(robot::kObsPreviousAction + j, i), e.runtime.action[size_t(j)]) << j;
+    }
+    // the keys one tick on: W at 0.3 m/s ramps by 0.02; the level's first riser 0.10 m high, 0.8 m ahead
+    EXPECT_NEAR(obs(robot::kObsCommand + 0, i), 0.32f, 1e-6f);
+    EXPECT_NEAR(obs(robot::kObsCommand + 4, i), 0.10f, 1e-3f);
+    EXPECT_NEAR(obs(robot::kObsCommand + 5, i), 0.8f, 0.02f);
+  }
+  // W goes up at the entry's tick + 50: by then the command has ramped to the stairs' W speed of 0.5 m/s; it is
+  // back at 0 25 ticks later; the episode ends at the segment's end and kPlayEpisodeMarginSeconds (300 ticks)
+  ai::StepResult r;
+  const Eigen::MatrixXf zero = Eigen::MatrixXf::Zero(robot::kActionSize, 2);
+  int endedAt = -1;
+  for (int s = 1; s <= 300 && endedAt < 0; ++s) {
+    env.step(zero, &r);
+    if (s == 48) EXPECT_NEAR(r.observations(robot::kObsCommand, 0), 0.5f, 1e-6f);
+    if (s == 80) EXPECT_EQ(r.observations(robot::kObsCommand, 0), 0.0f);
+    if (r.truncated[0]) endedAt = s;
+  }
+  EXPECT_EQ(endedAt, 300);
+}
+
+TEST(PlayEpisodes, AnEntriesFileWithoutTheSkillIsRefused) {
+  PlayFixture f;
+  f.stairs.playEntries = "missing.entries";
+  EXPECT_THROW(ai::SkillEnv(fixture().model, f.stairs, f.treePath, envOptions(1, 1, false)), engine::Error);
+  robot::EntryState walk = stairsEntry();
+  walk.skill = "walk";
+  robot::saveEntries(std::filesystem::path(f.treePath).parent_path().string() + "/walk_only.entries", {walk});
+  f.stairs.playEntries = "walk_only.entries";
+  try {
+    ai::SkillEnv env(fixture().model, f.stairs, f.treePath, envOptions(1, 1, false));
+    ADD_FAILURE() << "no error";
+  } catch (const engine::Error& err) {
+    EXPECT_NE(std::string(err.what()).find("walk_only.entries: no handover state into 'stairs'"), std::string::npos)
+        << err.what();
   }
 }

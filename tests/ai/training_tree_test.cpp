@@ -212,6 +212,20 @@ TEST(TrainingTree, BadEntriesAreLocated) {
   EXPECT_EQ(errorOf(good), "");
 }
 
+TEST(TrainingTree, PlayEpisodesNeedTheirShareAndAFileNameInTheTreesFolder) {
+  auto errorOf = [](const std::string& text) { return treeError("tree_training_play", text); };
+  const std::string walk = "[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" +
+                           fixtures::kWalkGains + "[skill.walk.training]\n";  // line 19
+  EXPECT_EQ(errorOf(walk + "play_entries = \"walk.entries\"\nplay_share = 0.3\n"), "");
+  EXPECT_NE(errorOf(walk + "play_share = 0.3\n")
+                .find("t.toml:19: skill.walk.training: play_share and play_entries go together"),
+            std::string::npos);
+  EXPECT_NE(errorOf(walk + "play_entries = \"../walk.entries\"\nplay_share = 0.3\n")
+                .find("t.toml:20: skill.walk.training.play_entries must be a file name in the tree's folder"),
+            std::string::npos);
+  EXPECT_NE(errorOf(walk + "play_entries = \"walk.entries\"\nplay_share = 1.5\n").find("t.toml:21"), std::string::npos);
+}
+
 TEST(TrainingTree, ACardTakesOnlyTheKeysItsTypeReads) {
   auto errorOf = [](const std::string& text) { return treeError("tree_card_keys", text); };
   const std::string walk =
