@@ -276,8 +276,9 @@ bool holdsClosingStand(const SkillDef& skill, const PhaseClock& phase, bool wait
 
 bool cycleAllowsSwitch(const SkillDef& from, const SkillDef& destination, const PhaseClock& phase, double drift,
                        int waitedTicks) {
-  if (!isKeyPoseCycle(from) || !isStillSkill(destination)) return true;
-  return phase.tp >= closingStandTick(from.prior) && (drift < kSettleDrift || waitedTicks >= kMaxSettleWaitTicks);
+  if (!isKeyPoseCycle(from)) return true;
+  if (phase.tp < closingStandTick(from.prior)) return false;  // the landing first, whatever comes next
+  return !isStillSkill(destination) || drift < kSettleDrift || waitedTicks >= kMaxSettleWaitTicks;
 }
 
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors, int waitedTicks) {

@@ -107,17 +107,18 @@ bool hasStoodUp(const Sensors& sensors);
 /// level is enough (atRestForSwitch, rising or sinking slower than kRestSpeed), the leg joints free to move.
 bool postureAllowsSwitch(const SkillDef& from, const SkillDef& to, const Sensors& sensors, int waitedTicks);
 /// A skill whose prior is a repeating cycle of key poses from the default pose (the jump; not a ground skill's
-/// gait). A request out of it whose destination is a still skill (the squat) is met only in the cycle's closing
-/// stand (from closingStandTick on) once the robot has stopped drifting (`drift`, robot::updateDrift, under
-/// kSettleDrift; after kMaxSettleWaitTicks of waiting, the closing stand alone), and while it waits the clock holds
-/// in that stand instead of starting the next crouch (holdsClosingStand). The squat taking over at the first
-/// settled moment after a landing, still drifting back at ~0.2 m/s, turned on the spot and fell. A
-/// moving destination (the walk, routed through the squat) takes over as before: it steps out of the drift (with
-/// the rule for it too, the jump fell 50 times over levels/mario's autopilot seeds 1-60, against 17).
+/// gait). A request out of it is met only in the cycle's closing stand (from closingStandTick on), and while it waits
+/// the clock holds in that stand instead of starting the next crouch (holdsClosingStand): the walk asked for after a
+/// jump (routed through the squat) took over while the robot was still absorbing the landing, the pelvis 0.13 m low
+/// and rising, and fell 0.4 s later (14 of levels/mario's 19 walk falls over autopilot seeds 1-20). A still
+/// destination (the squat) also waits until the robot has stopped drifting (`drift`, robot::updateDrift, under
+/// kSettleDrift; after kMaxSettleWaitTicks of waiting, the closing stand alone): the squat taking over at the first
+/// settled moment after a landing, still drifting back at ~0.2 m/s, turned on the spot and fell. A moving one steps
+/// out of the drift (with the drift rule for it too, the jump fell 50 times over seeds 1-60, against 17).
 bool isKeyPoseCycle(const SkillDef& skill);
 /// The tick of the cycle's key before the last (the last repeats its pose: the stand that closes each cycle).
 int closingStandTick(const PriorDef& prior);
-/// True unless `from` is a key-pose cycle, `destination` a still skill, and the cycle or the drift not there yet
+/// True unless `from` is a key-pose cycle and the cycle (or, for a still `destination`, the drift) is not there yet
 /// (see isKeyPoseCycle). `waitedTicks`: how long the switch has waited.
 bool cycleAllowsSwitch(const SkillDef& from, const SkillDef& destination, const PhaseClock& phase, double drift,
                        int waitedTicks);

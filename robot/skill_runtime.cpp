@@ -299,7 +299,8 @@ void controlStep(const RobotModel& nominal, const RobotModel& model, SkillState*
 }
 
 bool waitsForStill(const SkillState& state, const Skill* wanted) {
-  return wanted && wanted != state.active && isStillSkill(wanted->def);
+  return wanted && wanted != state.active &&
+         (isStillSkill(wanted->def) || (state.active && isKeyPoseCycle(state.active->def)));
 }
 
 }  // namespace robot

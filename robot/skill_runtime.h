@@ -200,7 +200,7 @@ void act(const RobotModel& model, SkillState* state, const float* policyOutput, 
 void controlStep(const RobotModel& nominal, const RobotModel& model, SkillState* state, const Sensors& sensors,
                  const engine::PhysicsWorld& world, const SkillCommand& command, bool waitsForStill, PdCommand* out);
 
-/// True while a request waits to leave a key-pose cycle for a still skill (its clock holds in the closing stand).
+/// True while a request waits for a still skill, or to leave a key-pose cycle (its clock holds in the closing stand).
 bool waitsForStill(const SkillState& state, const Skill* wanted);
 
 }  // namespace robot

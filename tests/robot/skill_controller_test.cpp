@@ -644,7 +644,7 @@ TEST(Switching, ASettleFirstSkillWaitsUntilTheRobotHasStoppedDriftingAndUpToThre
   EXPECT_EQ(robot::maxSwitchWaitTicks(walk), robot::kMaxSlowWaitTicks);
 }
 
-TEST(Switching, OutOfJumpsInARowAStillSkillTakesOverInTheClosingStandOnceTheDriftHasStopped) {
+TEST(Switching, OutOfJumpsInARowTheNextSkillTakesOverInTheClosingStandAStillOneOnceTheDriftHasStopped) {
   robot::SkillDef jump, squat, walk, kick;
   jump.name = "jump", squat.name = "squat", walk.name = "walk", kick.name = "kick";
   walk.commands.vx = {-0.6, 1.2};
@@ -662,9 +662,11 @@ TEST(Switching, OutOfJumpsInARowAStillSkillTakesOverInTheClosingStandOnceTheDrif
   EXPECT_TRUE(robot::cycleAllowsSwitch(jump, squat, standing, 0.03, 0));
   EXPECT_TRUE(robot::cycleAllowsSwitch(jump, squat, standing, 0.05, robot::kMaxSettleWaitTicks));  // waited 3 s
   EXPECT_FALSE(robot::cycleAllowsSwitch(jump, squat, crouching, 0.0, robot::kMaxSettleWaitTicks));
-  EXPECT_TRUE(robot::cycleAllowsSwitch(jump, walk, crouching, 0.2, 0));  // the walk steps out of a drift: as before
+  // the walk waits for the landing too (the closing stand), and steps out of a drift
+  EXPECT_FALSE(robot::cycleAllowsSwitch(jump, walk, crouching, 0.2, 0));
+  EXPECT_TRUE(robot::cycleAllowsSwitch(jump, walk, standing, 0.2, 0));
   EXPECT_TRUE(robot::cycleAllowsSwitch(kick, squat, crouching, 0.2, 0));
-  // the clock holds in the closing stand while a still skill is waited for, and only there
+  // the clock holds in the closing stand while a switch out of the cycle is waited for, and only there
   EXPECT_TRUE(robot::holdsClosingStand(jump, standing, true));
   EXPECT_FALSE(robot::holdsClosingStand(jump, standing, false));
   EXPECT_FALSE(robot::holdsClosingStand(jump, crouching, true));
