@@ -46,6 +46,13 @@ struct SessionOptions {
   const robot::SkillSet* skills = nullptr;  ///< learned skills (keys 0-9); without them the standing controller runs
 };
 
+/// A tunnel in sight in a side layer (plane = side: world x, z): its roof over the pelvis (0.3-1.0 m above the feet),
+/// or ahead within kTunnelSight the way the robot faces along the course (something 0.7 m up with open space at
+/// 0.3 m under it). Then *along is the tunnel's axis as the side layer sees it: the course's direction (+X or -X, the
+/// way the robot's ground heading points), and the result is true.
+constexpr double kTunnelSight = 3.0;  ///< [m]
+bool tunnelAxisInSight(const engine::PlaneWorld& plane, const robot::Sensors& sensors, Eigen::Vector2d* along);
+
 /// One skill switch.
 struct SwitchEvent {
   int64_t tick = 0;  ///< the tick whose control step the new skill made
@@ -131,6 +138,8 @@ class Session {
   /// Telemetry and the keys' ranges after the runtime switched to `next` (a respawn's too).
   void onSwitch(const robot::Skill* from, const robot::Skill& next);
   void respawn(double x);
+  /// A line-keeping skill just took over: its line along a tunnel's axis when one is in sight (session.cpp).
+  void keepToTunnelAxis();
   /// The default pose with every joint jittered by kInitialJitter from the seed's generator (the start, a respawn).
   robot::JointArray jitteredStandingPose();
 

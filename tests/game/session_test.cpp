@@ -107,3 +107,32 @@ TEST(Session, SnapshotDrawsGroundBoxesAndEveryRobotCollider) {
   EXPECT_EQ(snap.shapes.size(), 1 + steps().boxes.size() + colliders);
   EXPECT_NEAR((snap.follow - s.sensors().basePosition).norm(), 0.0, 1e-12);
 }
+
+TEST(TunnelAxis, ALineKeepingSkillTakesTheCourseDirectionWhenATunnelIsInSight) {
+  // a side layer with a tunnel's roof from x = 3 to 6.5, its underside 0.6 m up
+  engine::PlaneWorld plane;
+  plane.addStaticRect({4.75, 0.8}, {1.75, 0.2}, 0.0, 0);
+  robot::Sensors lying;  // face down (the pelvis's z axis forward), turned 0.3 rad left of +X, 1.5 m before it
+  lying.baseRotation =
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
+  lying.basePosition = Eigen::Vector3d(1.5, 0.2, 0.25);
+  Eigen::Vector2d along;
+  ASSERT_TRUE(game::tunnelAxisInSight(plane, lying, &along));
+  EXPECT_EQ(along, Eigen::Vector2d(1.0, 0.0));
+  lying.basePosition.x() = 5.0;  // under the roof
+  ASSERT_TRUE(game::tunnelAxisInSight(plane, lying, &along));
+  EXPECT_EQ(along, Eigen::Vector2d(1.0, 0.0));
+  lying.basePosition.x() = -2.0;  // 5 m before it: out of sight
+  EXPECT_FALSE(game::tunnelAxisInSight(plane, lying, &along));
+  // a wall (open at 0.3 m: no) is no tunnel
+  engine::PlaneWorld wall;
+  wall.addStaticRect({3.0, 1.0}, {0.2, 1.0}, 0.0, 0);
+  lying.basePosition.x() = 1.5;
+  EXPECT_FALSE(game::tunnelAxisInSight(wall, lying, &along));
+  // facing back along the course, past the tunnel's end: the axis points -X
+  lying.baseRotation =
+      Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
+  lying.basePosition.x() = 8.0;
+  ASSERT_TRUE(game::tunnelAxisInSight(plane, lying, &along));
+  EXPECT_EQ(along, Eigen::Vector2d(-1.0, 0.0));
+}
