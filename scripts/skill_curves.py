@@ -53,6 +53,7 @@ STAGES = {
     "jump": [
         ("jump.train.csv", "from squat, one jump per episode", 491_520),
         ("jump.jt26.train.csv", "6 s episodes, log-std -1.8", 8_028_160),
+        ("jump.play.train.csv", "40 % from play's handovers", 3_686_400),
     ],
     "one_leg": [
         ("one_leg.train.csv", "from walk, filter 0.5", 2_662_400),
