@@ -19,8 +19,8 @@
 
 namespace robot {
 
-/// A segment is recorded for at most this many ticks after the entry (10 s).
-constexpr int64_t kSegmentCapTicks = 1000;
+/// A segment is recorded for at most this many ticks after the entry (30 s: the stairs of levels/mario take 10-20 s).
+constexpr int64_t kSegmentCapTicks = 3000;
 
 struct EntryState {
   std::string skill;               ///< the skill that took over
