@@ -40,8 +40,8 @@ constexpr double kDribblePassed = 0.3;  // walk on until the ball is this far be
 constexpr double kOffLine = 0.45;  // walking this far off y = 0 (or kOffHeading off +X) with nothing close: re-align
 constexpr double kOffHeading = 0.3;
 constexpr double kWalkYawTol = 0.03;  // the heading that re-alignment leaves before walking on [rad]
-constexpr double kRestSpeed = 0.06;  // at rest for the align steps [m/s]
-constexpr double kKeyRamp = 2.0;     // the keys' velocity ramp [m/s^2] and turn ramp [rad/s^2] (engine/input)
+constexpr double kRestSpeed = 0.06;   // at rest for the align steps [m/s]
+constexpr double kKeyRamp = 2.0;      // the keys' velocity ramp [m/s^2] and turn ramp [rad/s^2] (engine/input)
 constexpr double kTurnRamp = 3.0;
 constexpr double kProneHeight = 0.40;   // lying when the pelvis is this low
 constexpr double kStoodHeight = 0.70;   // standing again
