@@ -7,6 +7,7 @@
 
 #include "engine/core/file_io.h"
 #include "engine/core/worker_pool.h"
+#include "engine/input/input_timeline.h"
 #include "game/session.h"
 #include "levels/level.h"
 
@@ -44,15 +45,10 @@ EntryCardResult runEntryCard(const std::vector<robot::EntryState>& entries, cons
     Session session(*levelsByPath.at(e.level), model, SessionOptions{e.seed, &skills});
     session.restoreEntry(e);
     EntryTrial& trial = result.trials[size_t(i)];
-    size_t next = 0;
+    engine::InputTimeline keys(e.events);
     const int64_t end = e.tick + e.segmentTicks + kEntryCardMarginTicks;
     while (session.tick() <= end) {
-      std::vector<engine::KeyEvent> events;
-      while (next < e.events.size() && e.events[next].tick <= session.tick()) {
-        if (e.events[next].tick == session.tick()) events.push_back(e.events[next]);
-        ++next;
-      }
-      session.step(events);
+      session.step(keys.eventsAt(session.tick()));
       if (session.telemetry().falls > 0) {
         trial.fell = true;
         break;

@@ -13,6 +13,7 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/input/command.h"
+#include "engine/input/input_timeline.h"
 #include "engine/loop/clock.h"
 
 namespace ai {
@@ -72,9 +73,9 @@ struct SkillEnv::Env {
   std::array<float, robot::kObservationSize> finalObservation{};
   Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // hold_position: where a zero command (or a push) began
   const robot::EntryState* entry = nullptr;          // a play episode: the handover state it started from
-  engine::CommandInput keys;                         // ... its keys, replayed from the entry's segment
-  size_t nextEvent = 0;
-  int playTicks = 0;           // ... its length [ticks]
+  engine::CommandInput keys;                         // ... its keys ...
+  engine::InputTimeline events{{}};                  // ... replayed from the entry's segment
+  int playTicks = 0;                                 // ... its length [ticks]
   bool waitsForStill = false;  // ... and whether its keys ask for a still skill (a jump then holds its closing stand)
   double yawRateSmoothed = 0;  // line_turn: the world yaw rate, low-passed over kLineTurnSeconds
 };
@@ -307,7 +308,7 @@ void SkillEnv::startFromEntry(Env& e, double friction) {
   e.entry = &entry;
   e.keys = engine::CommandInput(entry.limits);
   e.keys.restore(entry.keys);
-  e.nextEvent = 0;
+  e.events = engine::InputTimeline(entry.events);
   const int maxTicks = int(std::lround(skill_.termination.episodeSeconds / engine::kTickSeconds));
   e.playTicks =
       std::min(maxTicks, int(entry.segmentTicks) + int(std::lround(kPlayEpisodeMarginSeconds / engine::kTickSeconds)));
@@ -327,10 +328,7 @@ void SkillEnv::startFromEntry(Env& e, double friction) {
 // tick, the keys' ramp, then the runtime's shapeCommand (heading hold, a ground skill's line steer); skill keys are
 // not followed (the skill being trained stays in control)
 void SkillEnv::playCommand(Env& e) const {
-  const std::vector<engine::KeyEvent>& events = e.entry->events;
-  const int64_t tick = e.entry->tick + 1 + e.tick;
-  for (; e.nextEvent < events.size() && events[e.nextEvent].tick <= tick; ++e.nextEvent)
-    if (events[e.nextEvent].tick == tick) e.keys.apply(events[e.nextEvent]);
+  for (const engine::KeyEvent& k : e.events.eventsAt(e.entry->tick + 1 + e.tick)) e.keys.apply(k);
   e.keys.tick();
   const engine::CommandState& c = e.keys.state();
   robot::SwitchRequest request;

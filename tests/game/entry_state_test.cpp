@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "engine/core/error.h"
+#include "engine/input/input_timeline.h"
 #include "game/entry_card.h"
 #include "game/entry_recorder.h"
 #include "game/play.h"
@@ -146,12 +147,8 @@ TEST(EntryState, ARestoredEntryGoesOnAsTheRecordedRunDid) {
   EXPECT_EQ(s.activeSkillName(), "squat");
   EXPECT_EQ(s.tick(), e.tick + 1);
   EXPECT_EQ(s.sensors().basePosition, e.body.basePosition);
-  size_t next = 0;
-  while (s.tick() < 300) {
-    std::vector<engine::KeyEvent> now;
-    for (; next < e.events.size() && e.events[next].tick == s.tick(); ++next) now.push_back(e.events[next]);
-    s.step(now);
-  }
+  engine::InputTimeline keys(e.events);
+  while (s.tick() < 300) s.step(keys.eventsAt(s.tick()));
   // the recorded run's pelvis at 3.0 s, from its 50 Hz log (the centre of mass there; compare the same measure)
   const game::ComSample* at = nullptr;
   for (const game::ComSample& c : r.result.comLog)
