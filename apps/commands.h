@@ -45,6 +45,7 @@ struct EvalOptions {
   bool priorOnly = false;    ///< the card with zero network output: what the skill's prior does by itself
   std::string samplePolicy;  ///< policy file: the card with actions drawn from its Gaussian, as training acts
   std::string only;          ///< switches: only the switches into or out of this skill
+  double steer = -1;         ///< >= 0: a stairs or crawl card's steer in place of the tree file's (0: unsteered)
 };
 
 /// `treelearn entries record` options.

@@ -608,6 +608,11 @@ int main(int argc, char** argv) {
       "acts, seeded by --seed) instead of the ONNX model's mean; a diagnostic of training against the card");
   evalCmd->add_flag("--verbose", eval.verbose,
                     "Switches: list every failed trial (keys, moment, latency, time of the fall)");
+  evalCmd
+      ->add_option("--steer", eval.steer,
+                   "Stairs or crawl card: keep the robot on course with this gain in place of the card's steer (0: "
+                   "unsteered, the robot left to the skill)")
+      ->check(CLI::Range(0.0, 100.0));
   evalCmd->add_option("--only", eval.only,
                       "Switches: only the switches into or out of this skill (the same trials as in the full run)");
 

@@ -134,6 +134,14 @@ int runEval(const EvalOptions& o) {
   }
   ai::CardRun run{def, o.seed, o.threads};
   if (o.episodes > 0) run.card.episodes = o.episodes;
+  if (o.steer >= 0) {
+    if (ai::StairsCard* c = run.card.as<ai::StairsCard>())
+      c->steer = o.steer;
+    else if (ai::CrawlCard* c = run.card.as<ai::CrawlCard>())
+      c->steer = o.steer;
+    else
+      throw engine::Error("eval --steer: skill '" + o.skill + "' has neither a stairs nor a crawl card");
+  }
   const std::string hash = policy ? engine::toHex(ai::onnxFileHash(onnxPath)) : "-";
   const PrintedCard card = printCard(l, act, run, onnxPath, hash);
   const std::string& text = card.text;

@@ -217,10 +217,16 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   // [training] play_share: a play episode (drawn only when asked for, so other skills' episodes are unchanged)
   if (!playEntries_.empty() && allowHandover && unit(e.rng) < skill_.playShare) return startFromEntry(e, friction);
   e.world->addGround(friction);
-  addTerrain(*e.world, skill_.terrain, stepHeight(), friction);
-  // on stairs the robot starts facing them (+X, within +-0.2 rad); elsewhere any heading
-  const bool stairs = skill_.terrain.kind == TerrainDef::Kind::Stairs;
-  const double yaw = stairs ? 0.2 * (2.0 * unit(e.rng) - 1.0) : M_PI * (2.0 * unit(e.rng) - 1.0);
+  // [terrain] rise, tread, steps: this episode's staircase (drawn only when asked for)
+  const TerrainDef& t = skill_.terrain;
+  double u[3] = {0, 0, 0};
+  if (t.draw.drawn())
+    for (double& x : u) x = unit(e.rng);
+  const Staircase staircase = drawStaircase(t, t.draw, stepHeight(), u[0], u[1], u[2]);
+  addTerrain(*e.world, staircase.terrain, staircase.rise, friction);
+  // on stairs the robot starts facing them (+X, within +-entry_heading_deg); elsewhere any heading
+  const bool stairs = t.kind == TerrainDef::Kind::Stairs;
+  const double yaw = stairs ? t.entryYaw * (2.0 * unit(e.rng) - 1.0) : M_PI * (2.0 * unit(e.rng) - 1.0);
   // the draw is the ground's coefficient; the robot's own stays 1 as in the levels (Bullet multiplies the two,
   // so giving the feet the draw too made the contact coefficient its square: 0.25-1.56 for [0.5, 1.25])
   e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0.0, 0.0, yaw);
@@ -228,9 +234,9 @@ void SkillEnv::resetEnv(Env& e, bool allowHandover) {
   for (double& v : q) v += 0.02 * (2.0 * unit(e.rng) - 1.0);
   Eigen::Isometry3d base = e.robot->linkPose(*e.world, -1);
   // [terrain] spawn_along: some episodes start on a tread, the way down among them (drawn only when asked for)
-  if (stairs && skill_.terrain.spawnAlong > 0 && unit(e.rng) < skill_.terrain.spawnAlong) {
-    const double u = unit(e.rng), v = unit(e.rng);
-    const Eigen::Vector2d at = stairsSpawn(skill_.terrain, stepHeight(), u, v);
+  if (stairs && t.spawnAlong > 0 && unit(e.rng) < t.spawnAlong) {
+    const double along = unit(e.rng), v = unit(e.rng);
+    const Eigen::Vector2d at = stairsSpawn(staircase.terrain, staircase.rise, along, v);
     base.translation() += Eigen::Vector3d(at.x(), 0.0, at.y());
   }
   e.robot->teleport(*e.world, base, q);

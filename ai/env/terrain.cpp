@@ -25,6 +25,17 @@ levels::StairsDef stairsOf(const TerrainDef& t, double stepHeight) {
 
 }  // namespace
 
+Staircase drawStaircase(const TerrainDef& terrain, const StairsDraw& draw, double lessonRise, double u0, double u1,
+                        double u2) {
+  Staircase s{terrain, lessonRise};
+  if (!draw.drawn()) return s;
+  s.rise = draw.rise.lo + u0 * (draw.rise.hi - draw.rise.lo);
+  s.terrain.stepDepth = draw.tread.lo + u1 * (draw.tread.hi - draw.tread.lo);
+  const int fewest = int(draw.steps.lo), most = int(draw.steps.hi);
+  s.terrain.steps = std::min(most, fewest + int(u2 * (most - fewest + 1)));
+  return s;
+}
+
 void addTerrain(engine::PhysicsWorld& world, const TerrainDef& t, double stepHeight, double friction) {
   if (t.kind != TerrainDef::Kind::Stairs || stepHeight <= 0) return;
   for (const levels::BoxDef& b : levels::expandStairs(stairsOf(t, stepHeight)))

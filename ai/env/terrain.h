@@ -6,6 +6,17 @@
 
 namespace ai {
 
+/// One episode's staircase: its terrain (the steps and tread) and its rise [m].
+struct Staircase {
+  TerrainDef terrain;
+  double rise = 0;
+};
+
+/// The terrain as written at the lesson's step height, or, when `draw` draws (StairsDraw::drawn), a staircase with
+/// its rise, tread and number of steps drawn uniformly from draw's ranges by u0, u1 and u2 in [0, 1).
+Staircase drawStaircase(const TerrainDef& terrain, const StairsDraw& draw, double lessonRise, double u0, double u1,
+                        double u2);
+
 /// Adds the terrain (flat: nothing) with this step height; the ground plane is the caller's.
 void addTerrain(engine::PhysicsWorld& world, const TerrainDef& terrain, double stepHeight, double friction);
 

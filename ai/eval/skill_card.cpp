@@ -94,7 +94,7 @@ std::unique_ptr<LoadedPolicy> loadSkillModel(const SkillContext& l, const std::s
 
 std::string cardHead(const SkillContext& l, const CardRun& run, const std::string& modelShown,
                      const std::string& hash) {
-  const CardDef& def = l.skill->card;
+  const CardDef& def = run.card;  // (with eval's overrides)
   const std::string& name = l.skill->name;
   const char* onnxPath = modelShown.c_str();
   char head[1024];  // room for a long model path
@@ -136,12 +136,16 @@ std::string cardHead(const SkillContext& l, const CardRun& run, const std::strin
       }
       leadIn = " (" + leadIn + ", then " + name + ")";
     }
-    if (const StairsCard* stairs = def.as<StairsCard>(); stairs && stairs->steer > 0) {  // the player's steering
-      char b[160];
-      std::snprintf(b, sizeof b,
-                    ", steered square to the stairs as play's heading hold does (wz = -%g x the heading off them, "
-                    "within %g rad/s)",
-                    stairs->steer, robot::headingHoldLimit(l.skill->commands));
+    if (const StairsCard* stairs = def.as<StairsCard>()) {  // the player's steering, or none
+      char b[200];
+      if (stairs->steer > 0)
+        std::snprintf(b, sizeof b,
+                      ", steered square to the stairs as play's heading hold does (wz = -%g x the heading off them, "
+                      "within %g rad/s)",
+                      stairs->steer, robot::headingHoldLimit(l.skill->commands));
+      else
+        std::snprintf(b, sizeof b, ", unsteered from a start up to %.0f deg off square to the stairs",
+                      stairs->heading * 180.0 / M_PI);
       leadIn += b;
     }
     std::snprintf(head, sizeof head,

@@ -31,6 +31,7 @@ struct Episode {
   robot::SkillState state;     // the runtime: the measured skill's clock and filtered action, a lead-in's fade
   robot::Sensors sensors;
   Eigen::Vector2d start = Eigen::Vector2d::Zero();
+  Staircase stairs;  // a stairs card's staircase (drawn per episode when the card draws them)
   bool pushes = true, fallen = false;
   int nextPush = 0, segmentStart = 0;
   double speedError = 0, yawError = 0;
@@ -107,7 +108,6 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
   const robot::Skill measured{walk, policy};
   const HandoverRoute route = makeHandoverRoute(leadIn, walk);
   const bool walking = mode == Mode::kWalking;
-  const double downX = stairsLandingX(walk.terrain).y();  // stairs: where the way down begins
   const int n = int(eps.size());
   const int segment = int(std::lround(d.segmentSeconds / engine::kTickSeconds));
   const int settle = int(std::lround(d.settleSeconds / engine::kTickSeconds));
@@ -126,12 +126,18 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
       e.model.articulation.base.mass +=
           walk.randomisation.addedMass.lo +
           (walk.randomisation.addedMass.hi - walk.randomisation.addedMass.lo) * unit(e.rng);
-    const bool stairs = o.kind() == CardKind::Stairs;
+    const StairsCard* stairs = o.as<StairsCard>();
+    if (stairs) {  // the card's staircase, or one drawn for this episode (drawn only when asked for)
+      double u[3] = {0, 0, 0};
+      if (stairs->draw.drawn())
+        for (double& x : u) x = unit(e.rng);
+      e.stairs = drawStaircase(walk.terrain, stairs->draw, stairs->stepHeight, u[0], u[1], u[2]);
+    }
     auto place = [&] {
       e.world = std::make_unique<engine::PhysicsWorld>();
       e.world->addGround(friction);
-      if (stairs) addTerrain(*e.world, walk.terrain, o.as<StairsCard>()->stepHeight, friction);
-      const double yaw = stairs ? 0.2 * (2 * unit(e.rng) - 1) : M_PI * (2 * unit(e.rng) - 1);
+      if (stairs) addTerrain(*e.world, e.stairs.terrain, e.stairs.rise, friction);
+      const double yaw = stairs ? stairs->heading * (2 * unit(e.rng) - 1) : M_PI * (2 * unit(e.rng) - 1);
       e.robot = std::make_unique<robot::Robot>(e.model, *e.world, 0, 0, yaw);  // feet 1: the contact gets the draw
       e.sensors = e.robot->sense(*e.world);
     };
@@ -224,7 +230,7 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
         ++e.counted;
       }
       e.maxX = std::max(e.maxX, e.sensors.basePosition.x());
-      if (e.headingDown < 0 && e.sensors.basePosition.x() > downX)
+      if (e.headingDown < 0 && e.sensors.basePosition.x() > stairsLandingX(e.stairs.terrain).y())
         e.headingDown = std::abs(std::remainder(e.sensors.yaw, 2.0 * M_PI));
       if (e.ball >= 0) {
         e.ballState = e.world->ballState(e.ball);
@@ -389,14 +395,19 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   if (const StairsCard* stairs = o.as<StairsCard>()) {
     int across = 0;
     double progress = 0;
-    const double end = terrainEndX(skill.terrain);
     for (const Episode& e : walking) {
+      const double end = terrainEndX(e.stairs.terrain);
       across += !e.fallen && e.maxX > end;
       progress += std::clamp(e.maxX / end, 0.0, 1.0) / std::max(1, o.episodes);
     }
-    char name[96];
-    std::snprintf(name, sizeof name, "episodes up and down %d steps of %.2f m", skill.terrain.steps,
-                  stairs->stepHeight);
+    char name[160];
+    if (stairs->draw.drawn())
+      std::snprintf(name, sizeof name, "episodes up and down %g-%g steps of %.2f-%.2f m x %.2f-%.2f m",
+                    stairs->draw.steps.lo, stairs->draw.steps.hi, stairs->draw.rise.lo, stairs->draw.rise.hi,
+                    stairs->draw.tread.lo, stairs->draw.tread.hi);
+    else
+      std::snprintf(name, sizeof name, "episodes up and down %d steps of %.2f m", skill.terrain.steps,
+                    stairs->stepHeight);
     add(name, 100.0 * across / std::max(1, o.episodes), o.successPercent, "%", true);
     r.figures.push_back({"mean progress along the stairs", 100.0 * progress, "(reported) %", true});
     double heading = 0;
@@ -483,12 +494,12 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
     std::string when = "  falls per command segment:";
     for (int k = 0; k < segments; ++k) when += (k ? ", " : " ") + std::to_string(bySegment[size_t(k)]);
     r.figures.push_back({when, double(o.episodes - upright), "(reported)", true});
-    if (o.as<StairsCard>()) {  // where: by the pelvis's x when it fell
-      const Eigen::Vector2d landing = stairsLandingX(skill.terrain);
-      const double end = terrainEndX(skill.terrain);
+    if (o.as<StairsCard>()) {          // where: by the pelvis's x when it fell
       int where[5] = {0, 0, 0, 0, 0};  // before, up, landing, down, beyond
       for (const Episode& e : walking) {
         if (!e.fallen) continue;
+        const Eigen::Vector2d landing = stairsLandingX(e.stairs.terrain);
+        const double end = terrainEndX(e.stairs.terrain);
         const double x = e.sensors.basePosition.x();
         ++where[x < skill.terrain.startX ? 0 : x < landing.x() ? 1 : x < landing.y() ? 2 : x < end ? 3 : 4];
       }

@@ -62,12 +62,26 @@ struct BalanceCard : DrivenCard {
   double liftSeconds = 5;
 };
 
+/// A staircase drawn anew for each episode, in training ([terrain] rise, tread, steps) and on the stairs card: the
+/// rise, the tread and the number of risers up (as many down) each uniform within its range. Not drawn when rise.hi
+/// is 0.
+struct StairsDraw {
+  Range rise{0, 0};   ///< [m]
+  Range tread{0, 0};  ///< [m]
+  Range steps{0, 0};  ///< whole numbers, both ends included
+  bool drawn() const { return rise.hi > 0; }
+};
+
 /// Up and down the skill's staircase at `stepHeight`; success = past its far end without a fall.
 struct StairsCard : DrivenCard {
   double stepHeight = 0.15;  ///< [m]
   /// > 0: the card keeps the robot square to the staircase as a player would, with play's heading-hold law
   /// (robot::shapeCommand): wz = -steer x the heading off +X [rad], at most kHeadingMaxRate and the wz range.
   double steer = 0.0;
+  /// Stairs drawn anew for each episode (rise, tread, steps; then stepHeight is unused), and the robot's start
+  /// within +- heading of square to them (heading_deg) [rad].
+  StairsDraw draw;
+  double heading = 0.2;
 };
 
 /// `jumps` flights in a row (both feet off the ground), each with the pelvis apex at least `height` above its height

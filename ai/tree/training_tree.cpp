@@ -165,12 +165,29 @@ void parseBall(const TreeReader& r, const toml::table& bt, const std::string& wh
                             "[commands] ball_command = true"));
 }
 
+// rise, tread and steps as [low, high] (a terrain's or a stairs card's): a staircase drawn for each episode; all
+// three or none
+void parseStairsDraw(const TreeReader& r, const toml::table& t, const std::string& w, StairsDraw* d) {
+  const toml::node* rise = t.get("rise");
+  const toml::node* steps = t.get("steps");
+  const bool stepsRange = steps && steps->as_array();
+  if (!rise && !t.get("tread") && !stepsRange) return;
+  if (!rise || !t.get("tread") || !stepsRange)
+    throw Error(located(r.file, r.line(t),
+                        w + ": stairs drawn for each episode need rise, tread and steps, each as "
+                            "[low, high]"));
+  d->rise = r.range(t, "rise", {}, 0.01, 0.5, w);
+  d->tread = r.range(t, "tread", {}, 0.1, 2, w);
+  d->steps = r.range(t, "steps", {}, 1, 100, w);
+  for (const toml::node& n : *steps->as_array()) r.integer(n, w + ".steps", 1, 100);
+}
+
 // [skill.NAME.terrain]; after [training] (a ceiling needs handover = 1)
 void parseTerrain(const TreeReader& r, const toml::table& tt, const std::string& where, SkillSpec* s) {
   const std::string w = where + ".terrain";
   r.onlyKeys(tt,
              {"type", "steps", "step_depth", "start_x", "top_depth", "width", "lessons", "advance_at", "height",
-              "spawn_along"},
+              "spawn_along", "rise", "tread", "entry_heading_deg"},
              w);
   const std::string type =
       tt.get("type") && tt.get("type")->value<std::string>() ? *tt.get("type")->value<std::string>() : "";
@@ -185,8 +202,16 @@ void parseTerrain(const TreeReader& r, const toml::table& tt, const std::string&
     throw Error(
         located(r.file, r.line(tt),
                 w + ": a ceiling goes over a robot that has lain down: the skill's training needs handover = 1.0"));
-  d.steps = int(r.integer(tt, "steps", 10, 1, 100, w));
-  d.stepDepth = r.number(tt, "step_depth", 0.3, 0.1, 2, w);
+  parseStairsDraw(r, tt, w, &d.draw);
+  if (d.draw.drawn()) {  // the written staircase is the draw's largest (the card's figures and a spawn's range)
+    d.steps = int(d.draw.steps.hi), d.stepDepth = d.draw.tread.hi;
+    if (tt.get("step_depth"))
+      throw Error(located(r.file, r.line(*tt.get("step_depth")), w + ".step_depth: the tread is drawn (tread)"));
+  } else {
+    d.steps = int(r.integer(tt, "steps", 10, 1, 100, w));
+    d.stepDepth = r.number(tt, "step_depth", 0.3, 0.1, 2, w);
+  }
+  if (tt.get("entry_heading_deg")) d.entryYaw = r.number(tt, "entry_heading_deg", 0, 0, 90, w) * M_PI / 180.0;
   d.startX = r.number(tt, "start_x", 1.0, 0, 20, w);
   d.topDepth = r.number(tt, "top_depth", 1.5, 0.1, 20, w);
   d.width = r.number(tt, "width", 4.0, 0.5, 50, w);
@@ -201,8 +226,11 @@ void parseTerrain(const TreeReader& r, const toml::table& tt, const std::string&
   if (d.spawnAlong > 0 && d.kind != TerrainDef::Kind::Stairs)
     throw Error(located(r.file, r.line(*tt.get("spawn_along")),
                         w + ".spawn_along starts episodes on a staircase's treads: it needs type = \"stairs\""));
-  if (d.kind == TerrainDef::Kind::Stairs && d.lessons.empty())
-    throw Error(located(r.file, r.line(tt), w + ": stairs need lessons = [step heights]"));
+  if (d.kind == TerrainDef::Kind::Stairs && d.lessons.empty() && !d.draw.drawn())
+    throw Error(located(r.file, r.line(tt), w + ": stairs need lessons = [step heights] or rise = [low, high]"));
+  if (d.draw.drawn() && (!d.lessons.empty() || d.kind != TerrainDef::Kind::Stairs))
+    throw Error(located(r.file, r.line(tt),
+                        w + ": rise, tread and steps draw a staircase per episode: type = \"stairs\" without lessons"));
 }
 
 // A command curriculum's last lesson is what the skill ships with: it must be the tree entry's own command range and
@@ -306,7 +334,7 @@ std::vector<std::string> cardKeys(CardKind kind) {
       add({"lift_height", "lift_s", "success_pct", "lead_in"});
       break;
     case K::Stairs:
-      add({"step_height", "steer", "success_pct"});
+      add({"step_height", "steer", "success_pct", "rise", "tread", "steps", "heading_deg"});
       break;
     case K::Jump:
       add({"jump_height", "jumps", "success_pct", "lead_in"});
@@ -414,6 +442,10 @@ void parseKind(const TreeReader& r, const toml::table& c, const std::string& w, 
   if (auto* k = card->as<StairsCard>()) {
     k->stepHeight = r.number(c, "step_height", 0.15, 0, 0.5, w);
     k->steer = cardSteer(r, c, w, s.commands);
+    parseStairsDraw(r, c, w, &k->draw);
+    if (k->draw.drawn() && c.get("step_height"))
+      throw Error(located(r.file, r.line(*c.get("step_height")), w + ".step_height: the rise is drawn (rise)"));
+    if (c.get("heading_deg")) k->heading = r.number(c, "heading_deg", 0, 0, 90, w) * M_PI / 180.0;
   }
   if (auto* k = card->as<JumpCard>()) {
     k->height = r.number(c, "jump_height", 0.10, 0, 2, w);

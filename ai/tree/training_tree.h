@@ -60,6 +60,8 @@ struct TerrainDef {
   double width = 4.0;           ///< across the robot's path [m]
   std::vector<double> lessons;  ///< step heights of the curriculum's lessons, in order [m]
   double advanceAt = 1.0;       ///< average episode score (SkillEnv::curriculumScore) that moves to the next lesson
+  StairsDraw draw;              ///< stairs drawn anew for every episode (in place of lessons), when draw.drawn()
+  double entryYaw = 0.2;        ///< stairs: an episode starts facing within +- this of square to them [rad]
   /// Stairs: the probability that a training episode starts on one of the staircase's treads (ai::stairsSpawn:
   /// up, on the landing or on the way down, facing +X) rather than before the first riser. A rollout is 10.24 s,
   /// so from the foot of the stairs no episode reaches the way down. Cards always start at the foot.

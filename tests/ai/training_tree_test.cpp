@@ -264,3 +264,38 @@ TEST(TrainingTree, ACardTakesOnlyTheKeysItsTypeReads) {
                              "after_s = 3.0\nsuccess_pct = 90\n"),
             "");
 }
+
+TEST(TrainingTree, DrawnStairsNeedRiseTreadAndStepsAndNoLessons) {
+  auto errorOf = [](const std::string& text) { return treeError("tree_training_stairs_draw", text); };
+  const std::string walk =
+      "[skill.walk]\nparent = \"\"\nkey = 0\n[skill.walk.rewards]\nlive = 1\n" + fixtures::kWalkGains;
+  const std::string terrain = walk + "[skill.walk.terrain]\ntype = \"stairs\"\n";  // the table is at line 19
+  const std::string drawn = terrain + "rise = [0.08, 0.15]\ntread = [0.28, 0.6]\nsteps = [3, 6]\n";
+  EXPECT_EQ(errorOf(drawn), "");
+  const ai::TrainingTree tree = ai::loadTrainingTree(
+      fixtures::writeTree("tree_training_stairs_draw", drawn + "entry_heading_deg = 20\n"), fixtures::robotModel());
+  const ai::TerrainDef& t = tree.find("walk")->terrain;
+  EXPECT_TRUE(t.draw.drawn());
+  EXPECT_DOUBLE_EQ(t.draw.tread.hi, 0.6);
+  EXPECT_EQ(t.steps, 6);  // the written staircase is the largest drawn
+  EXPECT_DOUBLE_EQ(t.entryYaw, 20.0 * M_PI / 180.0);
+  const std::string noSteps = terrain + "rise = [0.08, 0.15]\ntread = [0.28, 0.6]\n";
+  EXPECT_NE(errorOf(noSteps).find("t.toml:19: skill.walk.terrain: stairs drawn for each episode need rise, tread and "
+                                  "steps"),
+            std::string::npos)
+      << errorOf(noSteps);
+  EXPECT_NE(errorOf(drawn + "lessons = [0.1]\n").find("without lessons"), std::string::npos);
+  const std::string halfStep = terrain + "rise = [0.08, 0.15]\ntread = [0.28, 0.6]\nsteps = [3, 5.5]\n";
+  EXPECT_NE(errorOf(halfStep).find("t.toml:23: skill.walk.terrain.steps must be a whole number"), std::string::npos)
+      << errorOf(halfStep);
+  const std::string lowAboveHigh = terrain + "rise = [0.15, 0.08]\ntread = [0.28, 0.6]\nsteps = [3, 6]\n";
+  EXPECT_NE(errorOf(lowAboveHigh).find("t.toml:21: skill.walk.terrain.rise: low is above high"), std::string::npos)
+      << errorOf(lowAboveHigh);
+  // the card draws its own staircases, so it gives no step_height
+  const std::string card = walk +
+                           "[skill.walk.terrain]\ntype = \"stairs\"\nlessons = [0.1]\n[skill.walk.card]\n"
+                           "type = \"stairs\"\nstep_height = 0.1\nrise = [0.08, 0.15]\ntread = [0.3, 0.3]\n"
+                           "steps = [3, 3]\n";
+  EXPECT_NE(errorOf(card).find("t.toml:24: skill.walk.card.step_height: the rise is drawn"), std::string::npos)
+      << errorOf(card);
+}
