@@ -29,19 +29,26 @@ constexpr double kBallAheadTol = 0.08, kBallSideTol = 0.06, kBallYawTol = 0.10, 
 constexpr double kBallBehind = 1.5;  // a ball up to this far behind the pelvis is still to be kicked: back up to it
 constexpr double kBallClear = 0.45;  // step this far to the side of it before backing up (not into it)
 constexpr double kBallReach = 0.75;  // line up at most this far off the course's middle (the walls are at +-1.0)
-// a ball too near the left wall for the right-footed kick's spot (the pelvis would have to be kBallSide left of the
-// wall's reach) is pushed on instead: the robot lines up with the ball in front of its left foot and walks through it
-// (the goal spans the course, so a ball rolled along the wall goes in as well as a kicked one)
-constexpr double kDribbleSide = 0.12;   // the left foot's offset from the pelvis (feet 0.237 m apart)
+// the kick's line at most this far off the middle (0.35 m from a wall; on variants with the ball 0.31-0.46 m from the
+// left wall the line-up at 0.75 missed its spot for a minute at a time, the pelvis pushed off the wall)
+constexpr double kKickLineMax = 0.65;
+constexpr double kDribbleUntil = 0.1;  // the dribble goes on until the ball's kick line is this far inside kKickLineMax
+// a ball too near a wall for the right-footed kick's spot (kickOutOfReach) is pushed on instead: the robot lines up
+// with the ball in front of the foot nearer that wall and walks through it (the goal spans the course, so a ball
+// rolled along the wall goes in as well as a kicked one; by the right wall the kick's stance left the ball short)
+constexpr double kDribbleSide = 0.12;   // a foot's offset from the pelvis (feet 0.237 m apart)
 constexpr double kDribbleYaw = 0.1;     // facing a little toward the wall: the arms keep the pelvis ~0.25 m from it,
                                         // and walking straight the left foot passed beside a ball resting there
 constexpr double kDribblePassed = 0.3;  // walk on until the ball is this far behind the pelvis (the robot got past
                                         // it), or it rolled away from the wall, or kDribbleTimeout
 constexpr double kOffLine = 0.45;  // walking this far off y = 0 (or kOffHeading off +X) with nothing close: re-align
 constexpr double kOffHeading = 0.3;
-constexpr double kWalkYawTol = 0.03;  // the heading that re-alignment leaves before walking on [rad]
-constexpr double kRestSpeed = 0.06;   // at rest for the align steps [m/s]
-constexpr double kKeyRamp = 2.0;      // the keys' velocity ramp [m/s^2] and turn ramp [rad/s^2] (engine/input)
+constexpr double kWalkYawTol = 0.03;       // the heading that re-alignment leaves before walking on [rad]
+constexpr double kRestSpeed = 0.06;        // at rest for the align steps [m/s]
+constexpr double kStairsTurnedAway = 1.2;  // [rad] the stairs skill facing this far off +X before it climbed: stop
+constexpr double kStairsStopFrom = 1.3;    // stop for the stairs below this speed [m/s] (until then the keys stay)
+constexpr double kAlignFrom = 0.8;         // re-align only below this speed [m/s] (the walk's W is released until then)
+constexpr double kKeyRamp = 2.0;           // the keys' velocity ramp [m/s^2] and turn ramp [rad/s^2] (engine/input)
 constexpr double kTurnRamp = 3.0;
 constexpr double kProneHeight = 0.40;   // lying when the pelvis is this low
 constexpr double kStoodHeight = 0.70;   // standing again
@@ -62,9 +69,10 @@ constexpr int64_t kPulseTicks = 15;
 double wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
 // where the line-up puts the pelvis across the course: kBallSide from the ball, or as near as the walls let it
 double kickLineY(const Cues& c) { return std::clamp(c.ballY - kBallSide, -kBallReach, kBallReach); }
-// the kick's spot is out of reach: lined up as near the wall as the robot goes, the ball would still be further left
-// of the pelvis than the kick's side tolerance allows
-bool kickOutOfReach(const Cues& c) { return c.ballY - kickLineY(c) > kBallSide + kBallSideTol; }
+// the kick's spot is out of reach: its line would put the pelvis within 0.35 m of a wall (kKickLineMax), where the
+// arms touch it and the short steps of the line-up could not hold the spot. `margin` > 0 asks for a ball further in
+// (the dribble pushes on until the ball is well clear of that line)
+bool kickOutOfReach(const Cues& c, double margin = 0) { return std::abs(c.ballY - kBallSide) > kKickLineMax - margin; }
 
 }  // namespace
 
@@ -241,9 +249,10 @@ void Autopilot::lineUpWithBall(int64_t tick, const Cues& c, std::vector<engine::
   enter(tick, Mode::Align, 0, false, out);
   alignY_ = kickLineY(c);
   alignYTol_ = 0.04, alignYawTol_ = 0.05, afterAlign_ = Mode::Approach;
-  if (kickOutOfReach(c)) {  // by the left wall: push it on with the left foot instead
-    alignY_ = std::clamp(c.ballY - kDribbleSide, -kBallReach, kBallReach);
-    alignYaw_ = kDribbleYaw, alignYTol_ = 0.06, alignYawTol_ = 0.1, afterAlign_ = Mode::Dribble;
+  if (kickOutOfReach(c)) {  // by a wall: push it on with the foot nearer that wall instead
+    const double wall = c.ballY - kBallSide > 0 ? 1.0 : -1.0;
+    alignY_ = std::clamp(c.ballY - wall * kDribbleSide, -kBallReach, kBallReach);
+    alignYaw_ = wall * kDribbleYaw, alignYTol_ = 0.06, alignYawTol_ = 0.1, afterAlign_ = Mode::Dribble;
   }
 }
 
@@ -286,8 +295,12 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
         enter(tick, Mode::Align, 0, false, &out);
         alignY_ = kProneY, alignYTol_ = 0.08, alignYawTol_ = 0.05, afterAlign_ = Mode::Prone;
       } else if (c.stepAhead < kStairsStart) {
-        enter(tick, Mode::Stairs, 0, false, &out);
-        stairsStarted_ = false, climbed_ = false;
+        // the stop for the stairs waits for the walk's own speeds: the walk taking over from the run at 1.6-1.9 m/s
+        // with W released spun half round (autopilot seeds 17 and 19)
+        if (c.speed <= kStairsStopFrom) {
+          enter(tick, Mode::Stairs, 0, false, &out);
+          stairsStarted_ = false, climbed_ = false;
+        }
       } else if (mode_ == Mode::Walk && ghostClose && c.stepAhead > kStairsSlow) {
         enter(tick, Mode::Run, keys_.run, true, &out);
       } else if (mode_ == Mode::Run && (c.ghost < 0 || c.stepAhead < kStairsSlow)) {
@@ -296,9 +309,17 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
                  (std::abs(c.y) > kOffLine || std::abs(wrap(c.yaw)) > kOffHeading)) {
         // facing +X within 0.03 rad: W from rest sets the heading the walk and then the run hold (the heading hold,
         // robot::shapeCommand), and at 0.1 the run, holding up to 0.1 rad off the course for 10 m, went into a wall
-        // (levels/mario autopilot seeds 1-40: 35 run falls at 0.1, 23 at 0.03; 84 falls in all against 61)
-        enter(tick, Mode::Align, 0, false, &out);
-        alignY_ = 0, alignYTol_ = 0.1, alignYawTol_ = kWalkYawTol, afterAlign_ = Mode::Walk;
+        // (levels/mario autopilot seeds 1-40: 35 run falls at 0.1, 23 at 0.03; 84 falls in all against 61).
+        // From a run's speed the walk first slows straight on (W released): turning while it braked from 1.7 m/s,
+        // it spun half round (autopilot seed 19)
+        if (c.speed > kAlignFrom) {
+          hold(tick, 'W', false, &out);
+        } else {
+          enter(tick, Mode::Align, 0, false, &out);
+          alignY_ = 0, alignYTol_ = 0.1, alignYawTol_ = kWalkYawTol, afterAlign_ = Mode::Walk;
+        }
+      } else if (mode_ == Mode::Walk) {
+        hold(tick, 'W', true, &out);  // (again, after slowing for a re-alignment that was no longer needed)
       }
       break;
     case Mode::Align:
@@ -323,7 +344,7 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
     case Mode::Dribble:
       // walking into the ball along the wall: done once it rolled away from the wall (the walk lines up to kick it)
       // or the robot got past it (the walk backs off and lines up again)
-      if (!kickOutOfReach(c) || c.ballAhead < -kDribblePassed || in > kDribbleTimeout)
+      if (!kickOutOfReach(c, kDribbleUntil) || c.ballAhead < -kDribblePassed || in > kDribbleTimeout)
         enter(tick, Mode::Walk, 0, true, &out);
       break;
     case Mode::BackUp:
@@ -343,9 +364,19 @@ std::vector<engine::KeyEvent> Autopilot::decide(int64_t tick, const Cues& c) {
     case Mode::Stairs:
       if (!stairsStarted_) {  // at rest first, then the stairs skill and W
         if (c.speed < kRestSpeed && c.commandVx == 0 && in > kSettleTicks) {
-          stairsStarted_ = true;
-          enter(tick, Mode::Stairs, keys_.stairs, true, &out);
+          if (std::abs(wrap(c.yaw)) > kOffHeading) {  // turned away (a hard stop spun it): face the stairs again
+            enter(tick, Mode::Align, 0, false, &out);
+            alignY_ = c.y, alignYTol_ = 1.0, alignYawTol_ = kWalkYawTol, afterAlign_ = Mode::Walk;
+          } else {
+            stairsStarted_ = true;
+            enter(tick, Mode::Stairs, keys_.stairs, true, &out);
+          }
         }
+        break;
+      }
+      if (!climbed_ && std::abs(wrap(c.yaw)) > kStairsTurnedAway) {  // turned round before it climbed: stop, again
+        enter(tick, Mode::Stairs, keys_.walk, false, &out);
+        stairsStarted_ = false;
         break;
       }
       // back to walk once the robot has climbed and is on flat ground with no step ahead for 0.5 m of travel

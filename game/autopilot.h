@@ -4,7 +4,8 @@
 // player would (so a recorded autopilot run replays from its key events alone).
 //
 //   ghost close behind        -> run (1) with W held, until it gives up or stairs come
-//   a step ahead              -> stairs (2) with W, back to walk (0) on flat ground
+//   a step ahead              -> stop (once at the walk's speeds), stairs (2) with W from rest facing +X, back to
+//                                walk (0) on flat ground; turned round before the climb: stop and face +X again
 //   a low ceiling ahead       -> stop square to the course 0.3 m left of its middle, prone (7), lie 3 s, crawl (9)
 //                                with W under it, then 0 (routed through standup) 1.2 m past its end
 //   a question box overhead   -> jump (4) until it is hit, then walk on (walk under it if no jump is loaded)
@@ -13,9 +14,11 @@
 //                                then the one-leg stand (5) and the kick (6); again if it is still short
 //   the ball beside or behind  -> (a kick that sent it sideways) step clear of it, back up (S) until it is ahead,
 //                                and line up again
-//   the ball by the left wall  -> (out of the right foot's reach) line up with it in front of the left foot, facing
-//                                0.1 rad toward the wall, and walk into it (W) until it rolls off the wall or is passed
-//   off the course's line     -> (walking, nothing close) stop, turn back to +X, step sideways back to y = 0
+//   the ball by a wall        -> (the kick's spot within 0.35 m of the wall) line up with it in front of the foot
+//                                nearer the wall, facing 0.1 rad toward it, and walk into it (W) until it has rolled
+//                                0.1 m further off the wall or is passed
+//   off the course's line     -> (walking, nothing close) slow to 0.8 m/s, stop, turn back to +X, step sideways back
+//                                to y = 0
 //   put back at a checkpoint  -> walk on from there (every key released first)
 #pragma once
 

@@ -94,6 +94,30 @@ TEST(Autopilot, RunsFromAGhostAndSlowsBeforeTheStairs) {
   EXPECT_EQ(keys(a.decide(104, c)), "tap 0;");
 }
 
+TEST(Autopilot, StopsForTheStairsOnlyAtTheWalksSpeedsAndFacingThem) {
+  game::Autopilot a(shippedKeys());
+  a.decide(0, {});
+  game::Cues c;
+  c.stepAhead = 1.9, c.speed = 1.7, c.commandVx = 1.2;  // the walk just took over from the run: keys stay
+  EXPECT_EQ(keys(a.decide(1, c)), "");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Walk);
+  c.speed = 1.2;  // at the walk's own speed: stop
+  EXPECT_EQ(keys(a.decide(2, c)), "up W;");
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Stairs);
+  c.speed = 0.0, c.commandVx = 0.0, c.yaw = 2.0;  // the stop spun it round: face +X before the stairs
+  a.decide(100, c);
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
+  game::Autopilot b(shippedKeys());  // started square, then turned round before it climbed: stop and start again
+  b.decide(0, {});
+  c = {};
+  c.stepAhead = 1.9;
+  b.decide(1, c);
+  EXPECT_EQ(keys(b.decide(100, c)), "tap 2;down W;");
+  c.yaw = 1.3;
+  EXPECT_EQ(keys(b.decide(101, c)), "tap 0;up W;");
+  EXPECT_EQ(b.mode(), game::Autopilot::Mode::Stairs);
+}
+
 TEST(Autopilot, FlatGroundBeforeTheFirstStepDoesNotEndTheStairs) {
   game::Autopilot a(shippedKeys());
   a.decide(0, {});
@@ -316,8 +340,8 @@ TEST(Autopilot, ALineUpThatWalkedPastTheBallBacksOffInsteadOfStepping) {
 
 TEST(Autopilot, ABallAgainstTheLeftWallIsPushedOnWithTheLeftFootInsteadOfKicked) {
   // the ball rests against the left wall (its inner face at y = 1.0, the ball's radius 0.11 m): the kick's spot, the
-  // pelvis 0.12 m left of the ball, is out of the 0.75 m the line-up goes; it lines up with the ball in front of
-  // the left foot instead, facing 0.1 rad toward the wall, and walks into it
+  // pelvis 0.12 m left of the ball, is beyond the kick's line (at most 0.65 m left of the middle); it lines up with
+  // the ball in front of the left foot instead, facing 0.1 rad toward the wall, and walks into it
   game::Autopilot a(shippedKeys());
   a.decide(0, {});
   game::Cues c;
@@ -330,18 +354,34 @@ TEST(Autopilot, ABallAgainstTheLeftWallIsPushedOnWithTheLeftFootInsteadOfKicked)
   c.ballAhead = -0.1;  // beside the left foot, still against the wall: walk on into it
   EXPECT_EQ(keys(a.decide(t++, c)), "");
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Dribble);
-  c.ballAhead = 0.4, c.ballY = 0.6;  // rolled off the wall: the kick's spot is in reach again
+  c.ballAhead = 0.4, c.ballY = 0.48;  // off the wall, but its kick line 0.60 m out: within 0.1 m of the limit
+  a.decide(t++, c);
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Dribble);
+  c.ballY = 0.40;  // rolled well off the wall: the kick's line 0.52 m out
   a.decide(t++, c);
   EXPECT_EQ(a.mode(), game::Autopilot::Mode::Walk);
 
-  game::Autopilot b(
-      shippedKeys());  // 0.24 m nearer the middle: the kick's line-up, the ball 0.10 m right of the pelvis at 0.75
+  game::Autopilot b(shippedKeys());  // 0.39 m nearer the middle: the kick's line-up, the pelvis at 0.62
   b.decide(0, {});
   c = {};
-  c.ballAhead = 0.75, c.ballY = 0.65, c.y = 0.75;
+  c.ballAhead = 0.75, c.ballY = 0.50, c.y = 0.62;
   t = 1;
   decideUntil(b, c, &t, game::Autopilot::Mode::Approach);
   EXPECT_EQ(b.mode(), game::Autopilot::Mode::Approach);
+}
+
+TEST(Autopilot, ABallAgainstTheRightWallIsPushedOnWithTheRightFoot) {
+  // the mirror of the left wall: the kick's spot (the pelvis 0.12 m left of the ball, at -0.77) is within 0.35 m of
+  // the right wall; it lines up with the ball in front of the right foot, facing 0.1 rad toward the wall
+  game::Autopilot a(shippedKeys());
+  a.decide(0, {});
+  game::Cues c;
+  c.ballAhead = 0.75, c.ballY = -0.89;
+  a.decide(1, c);
+  EXPECT_EQ(a.mode(), game::Autopilot::Mode::Align);
+  c.y = -0.75, c.yaw = -0.1;  // lined up (-0.89 + 0.12 = -0.77, as near the wall as the line-up goes)
+  int64_t t = 2;
+  EXPECT_EQ(decideUntil(a, c, &t, game::Autopilot::Mode::Dribble), "down W;");
 }
 
 TEST(Autopilot, AfterARespawnItReleasesEveryKeyAndWalksOn) {
