@@ -45,7 +45,8 @@ STAGES = {
         ("stairs.lb1.train.csv", "step_look_back, steered", 5_120_000),
         ("stairs.r1.train.csv", "turn draws again", 2_867_200),
         ("stairs.mx1.train.csv", "half the episodes steered", 1_024_000),
-        ("stairs.play.train.csv", "40 % from play's handovers", 921_600),
+        ("stairs.play.train.csv", "40 % from play's handovers", None),
+        ("stairs.range.train.csv", "staircases drawn, 20 deg starts", 2_969_600),
     ],
     "squat": [
         ("squat.train.csv", "from walk", 3_276_800),

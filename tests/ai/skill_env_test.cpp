@@ -125,10 +125,19 @@ void zeroRollout(ai::SkillEnv* env, int steps, uint64_t seed = 1) {
   env->endRollout();
 }
 
+// the stairs with a four-lesson curriculum of step heights (the shipped stairs draw each episode's staircase instead)
+ai::SkillSpec curriculumStairs() {
+  ai::SkillSpec stairs = *fixture().tree.find("stairs");
+  stairs.terrain.draw = ai::StairsDraw{};
+  stairs.terrain.steps = 10, stairs.terrain.stepDepth = 0.30;
+  stairs.terrain.lessons = {0.01, 0.05, 0.10, 0.15};
+  return stairs;
+}
+
 }  // namespace
 
 TEST(Curriculum, LessonAdvancesAtTheRolloutEndWhenTheSmoothedReturnPassesTheBarAndSurvivesACheckpoint) {
-  ai::SkillSpec stairs = *fixture().tree.find("stairs");
+  ai::SkillSpec stairs = curriculumStairs();
   stairs.termination.episodeSeconds = 0.2;  // 20-tick episodes: many finish quickly
   stairs.terrain.advanceAt = 0.01;          // a zero policy still earns a little (the total is clipped at 0)
   ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
@@ -156,7 +165,7 @@ TEST(Curriculum, LessonAdvancesAtTheRolloutEndWhenTheSmoothedReturnPassesTheBarA
 TEST(Curriculum, EpisodesLongerThanTheRolloutCountForWhatTheyPlayed) {
   // the walk's 20 s time limit is longer than a rollout: no episode times out, and standing without a fall for
   // the whole rollout must still count (it once did not, and a curriculum with only falls to measure never moved)
-  ai::SkillSpec stairs = *fixture().tree.find("stairs");
+  ai::SkillSpec stairs = curriculumStairs();
   stairs.termination.episodeSeconds = 20.0;
   stairs.terrain.advanceAt = 0.01;
   ai::SkillEnv env(fixture().model, stairs, fixture().tree.path, envOptions(4, 1, false));
@@ -173,7 +182,7 @@ TEST(Curriculum, ScoreIsTheReturnPerTickEachEpisodeCouldPlayAveragedOverTheLesso
   // by hand from the step results: every episode of a 260-step rollout with a 1.5 s time limit, finished (fallen
   // or timed out) or cut by the rollout's end, scores return / min(150, 260 - its first step); those that could
   // play fewer than 100 ticks are left out; the score is the bias-corrected average (weight 0.02 per episode)
-  ai::SkillSpec stairs = *fixture().tree.find("stairs");
+  ai::SkillSpec stairs = curriculumStairs();
   stairs.termination.episodeSeconds = 1.5;
   stairs.terrain.advanceAt = 1e9;  // never: only the score is checked
   const int n = 3, steps = 260, limit = 150;

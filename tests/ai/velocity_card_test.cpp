@@ -51,7 +51,10 @@ TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
   ai::SkillSpec stairs = *tree.find("stairs");
   stairs.termination.maxTiltDegrees = 0.01;
   stairs.terrain.topDepth = 1.0;
+  stairs.terrain.steps = 10, stairs.terrain.stepDepth = 0.30;
   ai::CardRun run{stairs.card, 1, 1};
+  run.card.as<ai::StairsCard>()->draw = ai::StairsDraw{};  // the 10 steps above, 0.15 m high
+  run.card.as<ai::StairsCard>()->stepHeight = 0.15;
   run.card.episodes = 2;
   run.card.driven()->episodeSeconds = 1.0;
   const ai::PolicyFn zero = [](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) {
@@ -73,16 +76,20 @@ TEST(VelocityCard, AStairsCardSaysWhereEachFallHappened) {
 }
 
 TEST(VelocityCard, AStairsCardThatSteersSquaresTheRobotUpToTheStairs) {
-  // the shipped stairs model, 4 episodes each turned up to 0.2 rad (11.5 deg) at the start: unsteered it keeps
-  // roughly that heading (no turn is asked), steered with play's heading-hold law it faces the stairs by the top
+  // the shipped stairs model on 10 steps, 4 episodes each turned up to 0.2 rad (11.5 deg) at the start: unsteered it
+  // keeps roughly that heading (no turn is asked), steered with play's heading-hold law it faces the stairs by the top
   const ai::TrainingTree tree =
       ai::loadTrainingTree(fixtures::kSource + "/assets/skills/tree.toml", fixtures::robotModel());
-  const ai::SkillSpec stairs = *tree.find("stairs");
+  ai::SkillSpec stairs = *tree.find("stairs");
+  stairs.terrain.steps = 10, stairs.terrain.stepDepth = 0.30;
   const ai::LoadedPolicy model = ai::loadPolicyOnnx(fixtures::kSource + "/assets/skills/stairs.onnx");
   const ai::PolicyFn policy = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* act) { model.act(obs, act); };
   ai::CardRun run{stairs.card, 1, 2};
+  run.card.as<ai::StairsCard>()->draw = ai::StairsDraw{};  // 10 steps of 0.10 m x 0.30 m, turned up to 0.2 rad
+  run.card.as<ai::StairsCard>()->stepHeight = 0.10;
+  run.card.as<ai::StairsCard>()->heading = 0.2;
   run.card.episodes = 4;
-  run.card.driven()->episodeSeconds = 14.0;  // past the top of the way down (x = 4.7 m at 0.5 m/s)
+  run.card.driven()->episodeSeconds = 20.0;  // past the top of the way down (x = 4.7 m)
   auto heading = [&](double steer) {
     run.card.as<ai::StairsCard>()->steer = steer;
     double value = -1, progress = 0;
