@@ -32,6 +32,7 @@ struct Episode {
   robot::Sensors sensors;
   Eigen::Vector2d start = Eigen::Vector2d::Zero();
   Staircase stairs;  // a stairs card's staircase (drawn per episode when the card draws them)
+  double downX = 0;  // ... where its way down begins
   bool pushes = true, fallen = false;
   int nextPush = 0, segmentStart = 0;
   double speedError = 0, yawError = 0;
@@ -105,6 +106,7 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
   const JumpCard* jumpCard = o.as<JumpCard>();
   const ProneCard* proneCard = o.as<ProneCard>();
   const BalanceCard* balanceCard = o.as<BalanceCard>();
+  const StairsCard* stairsCard = o.as<StairsCard>();
   const robot::Skill measured{walk, policy};
   const HandoverRoute route = makeHandoverRoute(leadIn, walk);
   const bool walking = mode == Mode::kWalking;
@@ -132,6 +134,7 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
       if (stairs->draw.drawn())
         for (double& x : u) x = unit(e.rng);
       e.stairs = drawStaircase(walk.terrain, stairs->draw, stairs->stepHeight, u[0], u[1], u[2]);
+      e.downX = stairsLandingX(e.stairs.terrain).y();
     }
     auto place = [&] {
       e.world = std::make_unique<engine::PhysicsWorld>();
@@ -195,7 +198,7 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
       e.robot->setCommand(pd);
       robot::stepPhysicsTick(*e.robot, *e.world);
       e.sensors = e.robot->sense(*e.world);
-      if (const StairsCard* stairsCard = o.as<StairsCard>(); stairsCard && stairsCard->steer > 0) {
+      if (stairsCard && stairsCard->steer > 0) {
         // a player keeping the robot square to the staircase (it runs along +X), with play's heading-hold law
         // (robot::shapeCommand's heading hold): steer x the heading error, at most kHeadingMaxRate and the skill's wz
         // range
@@ -230,7 +233,7 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
         ++e.counted;
       }
       e.maxX = std::max(e.maxX, e.sensors.basePosition.x());
-      if (e.headingDown < 0 && e.sensors.basePosition.x() > stairsLandingX(e.stairs.terrain).y())
+      if (stairsCard && e.headingDown < 0 && e.sensors.basePosition.x() > e.downX)
         e.headingDown = std::abs(std::remainder(e.sensors.yaw, 2.0 * M_PI));
       if (e.ball >= 0) {
         e.ballState = e.world->ballState(e.ball);
