@@ -121,6 +121,8 @@ int runEval(const EvalOptions& o) {
     for (double vy : {-0.4, 0.4}) commands.push_back({0, vy, 0});
     for (double wz : {-1.0, 1.0}) commands.push_back({0, 0, wz});
     commands.push_back({0, 0, 0});
+    for (double vx : {0.3, 0.6, 1.0})
+      for (double wz : {0.3, 0.6, -0.6}) commands.push_back({vx, 0, wz});
     std::printf("%s speed sweep: each command held 10 s, no pushes, friction 1 (model %s)\n", o.skill.c_str(),
                 onnxPath.c_str());
     std::printf("  %6s %6s %6s   %7s %7s %7s   %s\n", "vx_cmd", "vy_cmd", "wz_cmd", "vx", "vy", "wz", "fall");

@@ -148,7 +148,9 @@ void Session::restoreEntry(const robot::EntryState& entry) {
   physics_.setState(robot_->id(), entry.body);
   for (size_t i = 0; i < balls.size(); ++i) physics_.setBallState(balls[i], entry.balls[i]);
   input_.restore(entry.keys);
-  input_.setLimits(entry.limits);
+  engine::CommandLimits limits = entry.limits;  // an entry holds the keys' targets and rates; steering is the skill's
+  limits.steerVx = runtime_.active->def.commands.steerVx, limits.steerWz = runtime_.active->def.commands.steerWz;
+  input_.setLimits(limits);
   sensors_ = robot_->sense(physics_);
   tick_ = entry.tick + 1;
   fallen_ = down_ = false, fallTick_ = -1, stuckTicks_ = 0;
@@ -211,6 +213,7 @@ void Session::onSwitch(const robot::Skill* from, const robot::Skill& next) {
   limits.vxBackward = std::min(r.vx.lo, 0.0);
   limits.vyMax = std::max(std::abs(r.vy.lo), std::abs(r.vy.hi));
   limits.wzMax = std::max(std::abs(r.wz.lo), std::abs(r.wz.hi));
+  limits.steerVx = r.steerVx, limits.steerWz = r.steerWz;
   input_.setLimits(limits);
 }
 

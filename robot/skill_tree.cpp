@@ -263,8 +263,8 @@ void parseActionScale(const TreeReader& r, const toml::table& a, const std::stri
 void parseCommands(const TreeReader& r, const toml::table& c, const std::string& where, int skillLine, CommandDef* d) {
   const std::string w = where + ".commands";
   r.onlyKeys(c,
-             {"vx", "vy", "wz", "amplitude", "pelvis_height", "line_hold", "line_steer", "line_command", "step_command",
-              "step_look_back", "ball_command"},
+             {"vx", "vy", "wz", "amplitude", "pelvis_height", "line_hold", "forward_turn", "line_steer", "line_command",
+              "step_command", "step_look_back", "ball_command"},
              w);
   d->vx = r.range(c, "vx", {}, -5, 5, w);
   d->vy = r.range(c, "vy", {}, -5, 5, w);
@@ -273,6 +273,14 @@ void parseCommands(const TreeReader& r, const toml::table& c, const std::string&
   const std::array<double, 2> height = r.pair(c, "pelvis_height", {0.78, 0.78}, 0.1, 1.5, w);  // at amplitude 0, at 1
   d->pelvisHeight = {height[0], height[1]};
   d->lineHold = r.number(c, "line_hold", 0, 0, 5, w);
+  if (c.contains("forward_turn")) {
+    const std::array<double, 2> turn = r.pair(c, "forward_turn", {0, 0}, 0.01, 5, w);
+    if (turn[0] > d->vx.hi || turn[1] > std::min(d->wz.hi, -d->wz.lo))
+      throw Error(located(r.file, r.line(*c.get("forward_turn")),
+                          w + ".forward_turn = [vx, wz] must lie within the skill's vx range and its wz range on "
+                              "both sides of 0"));
+    d->steerVx = turn[0], d->steerWz = turn[1];
+  }
   d->lineSteer = r.number(c, "line_steer", 0, 0, 100, w);
   if (d->lineSteer > 0 && !turnsBothWays(*d))
     throw Error(located(r.file, r.line(*c.get("line_steer")),

@@ -83,6 +83,10 @@ struct CommandDef {
   /// had when it started moving; > 0 also leans that heading back toward the line it started on, by
   /// atan(lineHold x offset) with the offset in metres
   double lineHold = 0.0;
+  /// In play only: W held with A or D drives forward at steerVx [m/s] turning at +-steerWz [rad/s] together (the keys'
+  /// engine::CommandLimits::steerVx / steerWz), as a driver steers; 0 (the default): the keyboard's strict interlock,
+  /// W blocks A and D
+  double steerVx = 0.0, steerWz = 0.0;
   /// > 0: a ground skill is steered back toward the line it began on, in play (robot::shapeCommand, with no turn
   /// key), in training and on its card, as a player steers: each tick wz = -lineSteer x (heading off the line +
   /// 0.5 rad/m x offset across it), the error averaged over about a second, within the wz range (which must straddle

@@ -87,10 +87,18 @@ void CommandInput::tick() {
 
   // Velocity axes in a fixed order; each sees the others as already updated this tick.
   const int forward = direction(keys, 'W', 'S'), side = direction(keys, 'Q', 'E'), turn = direction(keys, 'A', 'D');
-  rampVelocityCommand(forward > 0   ? limits_.vxForward
-                      : forward < 0 ? limits_.vxBackward
-                                    : 0.0,
-                      side * limits_.vyMax, turn * limits_.wzMax, limits_.vRate, limits_.wzRate, &s.vx, &s.vy, &s.wz);
+  const bool canSteer = limits_.steerVx > 0.0 && limits_.steerWz > 0.0 && side == 0 && forward >= 0 && s.vy == 0.0;
+  const bool steering = canSteer && forward > 0 && turn != 0;  // W with A or D
+  const bool mixed = canSteer && s.vx > 0.0 && s.wz != 0.0;    // a steer under way
+  if (steering || mixed) {
+    s.vx = moveTowards(s.vx, steering ? limits_.steerVx : forward * limits_.vxForward, limits_.vRate);
+    s.wz = moveTowards(s.wz, turn * (steering ? limits_.steerWz : limits_.wzMax), limits_.wzRate);
+  } else {
+    rampVelocityCommand(forward > 0   ? limits_.vxForward
+                        : forward < 0 ? limits_.vxBackward
+                                      : 0.0,
+                        side * limits_.vyMax, turn * limits_.wzMax, limits_.vRate, limits_.wzRate, &s.vx, &s.vy, &s.wz);
+  }
 
   // Amplitude: R raises, F lowers, kept in [0, 1].
   const int raise = direction(keys, 'R', 'F');

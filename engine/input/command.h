@@ -38,6 +38,10 @@ struct CommandLimits {
   double vRate = 0.02;          ///< largest change of vx and vy per tick (m/s per tick)
   double wzRate = 0.03;         ///< largest change of wz per tick (rad/s per tick)
   double amplitudeRate = 0.01;  ///< change of amplitude per tick while R (up) or F (down) is held
+  /// W with A or D held: forward at steerVx (m/s) turning at +-steerWz (rad/s) together, as a driver steers; both
+  /// > 0 to enable (a skill's [commands] forward_turn), 0: the strict interlock below (W blocks A and D)
+  double steerVx = 0.0;
+  double steerWz = 0.0;
 };
 
 /// One tick of the keyboard's velocity ramp with its interlock (below): vx, vy, wz move, in that order, toward
@@ -60,6 +64,10 @@ void rampVelocityCommand(double targetVx, double targetVy, double targetWz, doub
 /// walking ramps vx down to 0 first, and wz starts rising in the tick vx reaches 0; holding W and A
 /// together from rest walks forward (vx is updated first and then blocks wz); holding A and then also W
 /// keeps turning (wz blocks vx) until A is released and wz is back at 0.
+/// Steering (limits with steerVx and steerWz > 0: the walk's forward_turn): W held with A or D (and no Q / E) targets
+/// vx = steerVx and wz = +-steerWz at once, and while the command mixes a forward vx with a turn (vy 0) vx and wz move
+/// toward their targets together rather than one after the other, so that letting A go under W straightens out at
+/// speed and letting W go under A turns on in place. Once the command is back to one axis the interlock above holds.
 /// R / F held raise / lower amplitude by amplitudeRate per tick, clamped to [0, 1] (both: no change).
 /// Digit keys (down or tap) set skillRequest.
 class CommandInput {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace engine {
 namespace {
 
@@ -98,6 +100,79 @@ TEST(CommandInput, AxisKeyIsIgnoredWhileAnotherAxisIsMoving) {
   run(turning, 10);
   EXPECT_EQ(turning.state().wz, 1.0);
   EXPECT_EQ(turning.state().vx, 0.0);
+}
+
+CommandLimits steerLimits() {
+  CommandLimits l;
+  l.steerVx = 0.6;  // the walk's forward_turn
+  l.steerWz = 0.5;
+  return l;
+}
+
+TEST(CommandInput, WithSteerLimitsWAndAWalkForwardAndTurnTogether) {
+  CommandInput input(steerLimits());
+  press(input, 'W');
+  run(input, 60);
+  ASSERT_EQ(input.state().vx, 1.2);
+  press(input, 'A');
+  input.tick();  // both move in the same tick: vx down toward 0.6, wz up toward 0.5
+  EXPECT_NEAR(input.state().vx, 1.18, 1e-12);
+  EXPECT_EQ(input.state().wz, 0.03);
+  run(input, 16);  // 17 ticks: 16 x 0.03 = 0.48, the 17th snaps to 0.5; vx 1.2 - 17 x 0.02 = 0.86
+  EXPECT_EQ(input.state().wz, 0.5);
+  EXPECT_NEAR(input.state().vx, 0.86, 1e-12);
+  run(input, 13);  // 30 ticks: vx 1.2 - 30 x 0.02 = 0.6
+  EXPECT_NEAR(input.state().vx, 0.6, 1e-12);
+  run(input, 20);
+  EXPECT_EQ(input.state().vx, 0.6);
+  EXPECT_EQ(input.state().wz, 0.5);
+  EXPECT_EQ(input.state().vy, 0.0);
+
+  // A let go under W: straightens out at speed (vx never drops below the steer's 0.6)
+  release(input, 'A');
+  double lowest = 1e9;
+  for (int i = 0; i < 30; ++i) input.tick(), lowest = std::min(lowest, input.state().vx);
+  EXPECT_NEAR(lowest, 0.62, 1e-12);
+  EXPECT_NEAR(input.state().vx, 1.2, 1e-12);  // 30 x 0.02 = 0.6 up
+  EXPECT_EQ(input.state().wz, 0.0);           // 17 ticks down
+}
+
+TEST(CommandInput, WithSteerLimitsLettingWGoUnderATurnsOnInPlace) {
+  CommandInput input(steerLimits());
+  press(input, 'W');
+  press(input, 'D');  // from rest, together: forward and right at once
+  input.tick();
+  EXPECT_EQ(input.state().vx, 0.02);
+  EXPECT_EQ(input.state().wz, -0.03);
+  run(input, 40);
+  EXPECT_NEAR(input.state().vx, 0.6, 1e-12);
+  EXPECT_EQ(input.state().wz, -0.5);
+  release(input, 'W');
+  run(input, 17);  // vx 0.6 - 17 x 0.02 = 0.26 while wz goes on to -1.0 (17 x 0.03 = 0.51: it snaps at 0.5 more)
+  EXPECT_NEAR(input.state().vx, 0.26, 1e-12);
+  EXPECT_EQ(input.state().wz, -1.0);
+  run(input, 13);
+  EXPECT_EQ(input.state().vx, 0.0);
+  EXPECT_EQ(input.state().wz, -1.0);
+}
+
+TEST(CommandInput, SteerLimitsLeaveSidewaysAndBackwardKeysUnderTheInterlock) {
+  CommandInput input(steerLimits());
+  press(input, 'W');
+  run(input, 60);
+  press(input, 'Q');  // a sideways key: no steering, and the interlock blocks Q while vx moves
+  press(input, 'A');
+  run(input, 20);
+  EXPECT_EQ(input.state().vx, 1.2);
+  EXPECT_EQ(input.state().wz, 0.0);
+  EXPECT_EQ(input.state().vy, 0.0);
+
+  CommandInput back(steerLimits());
+  press(back, 'S');
+  press(back, 'A');
+  run(back, 10);  // S first in the interlock's order, A blocked
+  EXPECT_NEAR(back.state().vx, -0.2, 1e-12);
+  EXPECT_EQ(back.state().wz, 0.0);
 }
 
 TEST(CommandInput, PressingTwoAxesTogetherFromRestMovesTheFirstInOrderVxVyWz) {
