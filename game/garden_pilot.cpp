@@ -19,11 +19,29 @@ constexpr double kStairsEntryBefore = 0.4;  // the stairs leg starts this far be
 constexpr double kStairsEntryReach = 0.5;   // a robot this close to the entry (or past it) takes the stairs leg [m]
 constexpr double kStairsExitAfter = 0.3;    // the stairs leg ends this far past the last stair cell [m]
 constexpr double kSkipWaypoint = 0.3;       // a waypoint closer than this along the path is passed [m]
+constexpr double kCornerReach = 0.5;        // steering: a corner is turned (or steered round) this close to it [m]
 constexpr double kMovableLook = 0.8;        // a movable body this close ahead of the pelvis stops Go [m]
 constexpr double kMovableHalfWidth = 0.25;  // ... across the body's core (the follower's obstacleHalfWidth) [m]
 
 // a double in [0, 1) from 53 random bits (portable, unlike std::uniform_real_distribution)
 double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+
+// The way across from a path's line over a staircase to the staircase's middle line [m, world]: at the middle of the
+// span, the centre of the run of stair cells across it (the taut path keeps to one edge of them, at the map's
+// clearance from a railing or a house, where a gait's sway brushes it).
+Eigen::Vector2d stairsMiddle(const nav::OccupancyGrid& grid, const nav::Path& path, const nav::StairsSpan& span) {
+  const Eigen::Vector2d mid = path.pointAt(0.5 * (span.from + span.to));
+  const Eigen::Vector2d across(-std::sin(span.heading), std::cos(span.heading));
+  auto onStairs = [&](double k) {
+    const Eigen::Vector2i c = grid.cellAt(mid + k * across);
+    return grid.kind(c.x(), c.y()) == nav::CellKind::Stairs;
+  };
+  const double step = 0.5 * grid.cellSize(), most = 3.0;
+  double lo = 0, hi = 0;
+  while (hi < most && onStairs(hi + step)) hi += step;
+  while (lo > -most && onStairs(lo - step)) lo -= step;
+  return 0.5 * (lo + hi) * across;
+}
 
 }  // namespace
 
@@ -161,7 +179,8 @@ std::vector<engine::KeyEvent> GardenKeys::decide(int64_t tick, const LegCues& c)
       }
       if (!settled()) break;
       const double meanError = std::remainder(c.legHeading - c.yawMean, 2.0 * M_PI);
-      if (std::abs(meanError) <= tolerance || tries_ >= p_.maxTurnTries) {
+      const double goTolerance = p_.steer && !c.stairsLeg ? std::max(tolerance, p_.steerStartTolerance) : tolerance;
+      if (std::abs(meanError) <= goTolerance || tries_ >= p_.maxTurnTries) {
         goStairs_ = c.stairsLeg;
         goHeading_ = c.legHeading;
         skill(tick, c.stairsLeg ? keys_.stairs : keys_.walk, &out);
@@ -174,6 +193,10 @@ std::vector<engine::KeyEvent> GardenKeys::decide(int64_t tick, const LegCues& c)
       break;
     }
     case Mode::Go: {
+      if (!goStairs_ && p_.steer) {
+        goSteering(tick, c, &out);
+        break;
+      }
       bool stop = !c.haveLeg || c.legRemaining <= brakeDistance(c.commandVx, p_);
       if (!goStairs_) {
         stop = stop || c.pathChanged || c.movableAhead || c.stairsLeg;  // a stairs leg begins from a stop, squared up
@@ -199,6 +222,47 @@ std::vector<engine::KeyEvent> GardenKeys::decide(int64_t tick, const LegCues& c)
     }
   }
   return out;
+}
+
+void GardenKeys::goSteering(int64_t tick, const LegCues& c, std::vector<engine::KeyEvent>* out) {
+  const double error = std::remainder(c.legHeading - c.yaw, 2.0 * M_PI);
+  const bool atEnd = c.haveLeg && c.legRemaining <= brakeDistance(c.commandVx, p_);
+  const bool wall = c.centreAhead < p_.steerWallStop;  // a wall right ahead: the leg went wrong
+  if (!c.haveLeg || c.stairsLeg || c.movableAhead || wall || (atEnd && c.endStops)) {
+    releaseMoves(tick, out);  // a stairs leg begins from a stop, squared up; a ball or a wall is gone round after one
+    enter(Mode::Stop);
+    return;
+  }
+  if (std::abs(error) > p_.steerCorner) {
+    // a corner too sharp to walk through (the next leg's, from kCornerReach before it), or a leg that went wrong:
+    // stop and turn in place (turning before the walk is at rest carried it on by up to 0.7 m: into the river)
+    releaseMoves(tick, out);
+    enter(Mode::Stop);
+    return;
+  }
+  // the last stretch to a stop (the path's end, a staircase's entry) slowly, W pulsed: it stops where it should
+  if (c.endStops && c.legRemaining < p_.approachDistance) {
+    hold(tick, 'A', false, out), hold(tick, 'D', false, out);
+    hold(tick, 'W', c.commandVx < p_.approachSpeed, out);
+    return;
+  }
+  // a corner or a body close ahead on one side only: steer away from it first
+  const bool nearLeft = c.leftAhead < p_.steerAvoid, nearRight = c.rightAhead < p_.steerAvoid;
+  if (nearLeft != nearRight) {
+    hold(tick, nearLeft ? 'A' : 'D', false, out);
+    hold(tick, nearLeft ? 'D' : 'A', true, out);
+    return;
+  }
+  // steer under W toward the path ahead (the walk crabs off its yaw; a replanned path bends)
+  const bool left = held_.holds('A'), right = held_.holds('D');
+  if (left || right) {
+    const double wz = std::abs(c.commandWz);
+    const double coast = wz * wz / (2.0 * p_.steerRamp) + wz * p_.steerLag;  // turned after the key is let go
+    if (left != (error > 0) || std::abs(error) <= coast || c.legRemaining <= p_.returnDistance)
+      hold(tick, left ? 'A' : 'D', false, out);
+  } else if (std::abs(error) > p_.steerOn && c.legRemaining > p_.returnDistance) {
+    hold(tick, error > 0 ? 'A' : 'D', true, out);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -236,8 +300,9 @@ Eigen::Vector2d GardenPilot::drawTarget(const nav::OccupancyGrid& grid, const Ei
     const Eigen::Vector2d c = grid.centre(ix, iy);
     const nav::Path path = nav::planPath(grid, from, c);
     if (!path.found || path.length() < draw.minPath) continue;
-    if (!across || !path.stairs.empty()) return c;
-    if (!haveFallback) fallback = c, haveFallback = true;
+    const bool crosses = !path.stairs.empty();
+    if (across ? crosses && path.length() <= draw.acrossMaxPath : path.length() <= draw.maxPath) return c;
+    if (!haveFallback && (crosses || !across)) fallback = c, haveFallback = true;
   }
   return fallback;
 }
@@ -283,6 +348,12 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
     const engine::RayHit hit = plane.rayCast(from, from + kMovableLook * ahead);
     if (hit.hit && engine::isMovableTag(hit.tag)) c.movableAhead = true;
   }
+  // walls and bodies ahead of the pelvis and of either side of the body's core (the follower's rays)
+  nav::FollowerParams ray = nav_->params().follower;
+  const double halfWidth = ray.obstacleHalfWidth;
+  ray.obstacleHalfWidth = 0.0;
+  double* const ahead3[] = {&c.rightAhead, &c.centreAhead, &c.leftAhead};
+  for (int k = -1; k <= 1; ++k) nav::obstacleFactor(plane, p + double(k) * halfWidth * left, s.yaw, ray, ahead3[k + 1]);
   const nav::Path& path = nav_->path();
   if (out.state != nav::NavState::Following || !path.found || path.points.size() < 2) return c;
   c.haveLeg = true;
@@ -295,26 +366,40 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
       break;
     }
   double entry = 0;
+  Eigen::Vector2d shift = Eigen::Vector2d::Zero();  // from the path's line across the stairs to the stairs' middle
   if (span) {
     const int j = path.segmentAt(span->from + 1e-3);  // the straight that crosses the stairs starts at point j
     entry = std::max(path.arc[size_t(j)], span->from - kStairsEntryBefore);
-    if (s0 >= entry - kStairsEntryReach) {
+    shift = stairsMiddle(nav_->grid(), path, *span);
+    // on the stairs leg from the staircase's middle line in front of it (or once on the stairs)
+    const bool atEntry = (path.pointAt(entry) + shift - p).norm() < kStairsEntryReach;
+    if ((s0 >= entry - kStairsEntryReach && atEntry) || s0 >= span->from) {
       c.stairsLeg = true;
       c.legHeading = span->heading;
       c.legRemaining = std::max(0.0, span->to + kStairsExitAfter - s0);
       return c;
     }
   }
+  // the leg ends at the next waypoint ahead; with steering, a corner is taken from kCornerReach before it
+  const double reach = keys_.params().steer ? kCornerReach : 0.0;
   double end = path.length();
   for (size_t i = 1; i < path.points.size(); ++i)
-    if (path.arc[i] > s0 + kSkipWaypoint) {
+    if (path.arc[i] > s0 + kSkipWaypoint &&
+        (i + 1 == path.points.size() || (path.points[i] - p).norm() > reach || (span && entry <= path.arc[i]))) {
       end = path.arc[i];
       break;
     }
-  if (span && entry < end) end = entry;
-  const Eigen::Vector2d to = path.pointAt(end) - p;
+  c.endStops = end >= path.length();
+  const bool toStairs = span && entry <= end;
+  if (toStairs) end = entry, c.endStops = true;
+  // a leg to a staircase ends on the staircase's middle line, square in front of it
+  const Eigen::Vector2d endPoint = path.pointAt(end) + (toStairs ? shift : Eigen::Vector2d::Zero());
+  const Eigen::Vector2d to = endPoint - p;
   c.legRemaining = to.norm();
-  c.legHeading = c.legRemaining > 1e-6 ? std::atan2(to.y(), to.x()) : s.yaw;
+  // with steering, aim at the path a little ahead (back onto its line) rather than at the leg's end
+  const double pursuit = s0 + keys_.params().steerPursuit;
+  const Eigen::Vector2d aim = keys_.params().steer && pursuit < end ? path.pointAt(pursuit) - p : to;
+  c.legHeading = aim.norm() > 1e-6 ? std::atan2(aim.y(), aim.x()) : s.yaw;
   return c;
 }
 

@@ -59,12 +59,16 @@ struct LegCues {
   bool haveLeg = false;                 ///< a path to follow
   double legHeading = 0;                ///< the heading to face for the leg [rad]
   double legRemaining = 0;              ///< distance to the leg's end [m]
+  bool endStops = true;                 ///< the leg's end is the path's end or a staircase's entry: stop there
   bool stairsLeg = false;               ///< the leg crosses a staircase (key 2)
   bool runAllowed = false;              ///< the navigation's skill choice is run
   bool backOff = false;                 ///< the navigation backs off (stuck)
   bool pathChanged = false;             ///< a replan this tick
   bool movableAhead = false;            ///< a movable body (a ball) right in front
   double obstacleFactor = 1;            ///< the navigation's obstacle factor (1 clear, 0 touching)
+  /// the nearest wall or movable body ahead along the heading from the pelvis and from +-0.25 m either side of it
+  /// (staircases looked through) [m], 1e9 when nothing is within 1.5 m
+  double leftAhead = 1e9, centreAhead = 1e9, rightAhead = 1e9;
 };
 
 /// The key scheme's numbers (see the file comment).
@@ -84,9 +88,24 @@ struct GardenKeyParams {
   /// the run at all: off in the garden, where the run's hand-over back to the walk (key 0, then W let go) fell in
   /// 2 of 2 runs that used it (seeds 1 and 2, 1 s after the switch); the unit tests check the scheme with it on
   bool useRun = false;
-  double runMinLeg = 6.0;     ///< run only with this much leg left [m] ...
-  double runLeaveLeg = 3.5;   ///< ... and walk again with this much left
-  double runFromSpeed = 0.9;  ///< ... and from a walk at least this fast [m/s]
+  /// steering under W (the walk's forward_turn: W with A or D): a walk leg starts within steerStartTolerance of its
+  /// heading, and on the way A or D is held under W while the leg's end is more than steerOn off the heading (and
+  /// more than returnDistance ahead), let go when the ramp down would end it on the heading; the path's corners of at
+  /// most steerCorner are walked through, larger ones turned in place from where the walk brakes, without a full stop
+  bool steer = false;
+  double steerStartTolerance = 0.15;  ///< [rad]
+  double steerOn = 0.05;              ///< [rad]
+  double steerCorner = 0.35;          ///< [rad]: a larger heading error is turned in place
+  double steerRamp = 3.0;             ///< the keys' wz ramp under W [rad/s^2]
+  double steerLag = 0.25;             ///< the walk's yaw lags a steer by about this [s]
+  double steerPursuit = 1.5;          ///< a walk leg aims at the path this far ahead of the robot's progress [m]
+  double steerAvoid = 0.7;            ///< a wall or body this close ahead of one side only is steered away from [m]
+  double steerWallStop = 0.45;        ///< ... and this close ahead of the pelvis, the leg stops [m]
+  double approachDistance = 1.5;      ///< the last this much to a stop (the path's end, a staircase) ... [m]
+  double approachSpeed = 0.4;         ///< ... is walked at about this command (W held only below it) [m/s]
+  double runMinLeg = 6.0;             ///< run only with this much leg left [m] ...
+  double runLeaveLeg = 3.5;           ///< ... and walk again with this much left
+  double runFromSpeed = 0.9;          ///< ... and from a walk at least this fast [m/s]
 };
 
 /// The yaw error [rad] at which a turn key held at yaw rate `wz` should be let go to stop on the heading.
@@ -106,12 +125,14 @@ class GardenKeys {
   /// The skill key pressed last ('\0': none yet).
   char skillKey() const { return skill_; }
   static const char* modeName(Mode m);
+  const GardenKeyParams& params() const { return p_; }
 
  private:
   void hold(int64_t tick, char key, bool down, std::vector<engine::KeyEvent>* out);
   void releaseMoves(int64_t tick, std::vector<engine::KeyEvent>* out);
   void skill(int64_t tick, char key, std::vector<engine::KeyEvent>* out);
   void enter(Mode m);
+  void goSteering(int64_t tick, const LegCues& c, std::vector<engine::KeyEvent>* out);
 
   SkillKeys keys_;
   GardenKeyParams p_;
@@ -142,11 +163,15 @@ struct GardenTally {
   std::vector<int64_t> reachedTicks;
 };
 
-/// How random targets are drawn: cells of the map that are free (no wall, no stairs), with a path from the previous
-/// target (or the spawn) at least minPath long; every acrossEvery-th one (the 2nd, 5th, ...) needs a path that
-/// crosses a staircase (the bridge or the short flight), tried up to `tries` candidates.
+/// How random targets are drawn, as the paper's operator clicked them one after another: cells of the map that are
+/// free (no wall, no stairs), with a path from the previous target (or the spawn) minPath to maxPath long; every
+/// acrossEvery-th one (the 2nd, 5th, ...) needs a path that crosses a staircase (the bridge or the short flight), up to
+/// acrossMaxPath long. Up to `tries` candidates; then the first that crosses a staircase at any length (an across
+/// target), or the first with a path minPath long.
 struct TargetDraw {
-  double minPath = 5.0;  ///< [m]
+  double minPath = 4.0;         ///< [m]
+  double maxPath = 12.0;        ///< [m] (the paper's sawtooth: target distances mostly under 10 m, one peak near 20 m)
+  double acrossMaxPath = 20.0;  ///< [m]
   int acrossEvery = 3;
   int tries = 400;
 };

@@ -23,9 +23,14 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
   if (options.frameEvery > 0 && options.onFrame) options.onFrame(session.snapshot(options.camera));
   Autopilot autopilot(options.skills ? skillKeys(*options.skills) : SkillKeys{});
   std::unique_ptr<GardenPilot> garden;
-  if (options.autopilot && isMapLevel(level))
-    garden = std::make_unique<GardenPilot>(session.plane(), options.skills ? skillKeys(*options.skills) : SkillKeys{},
-                                           options.seed, options.targets);
+  if (options.autopilot && isMapLevel(level)) {
+    GardenKeyParams keyParams;
+    const robot::Skill* walk = options.skills ? options.skills->byName("walk") : nullptr;
+    keyParams.steer = walk && walk->def.commands.steerWz > 0;  // W with A or D steers the walk (forward_turn)
+    garden =
+        std::make_unique<GardenPilot>(session.plane(), options.skills ? skillKeys(*options.skills) : SkillKeys{},
+                                      options.seed, options.targets, GardenPilot::gardenNavigatorParams(), keyParams);
+  }
   std::string gardenEvents;  // since the last 50 Hz sample
   std::vector<double> comX;  // per tick, for the switch reports
   while (session.tick() < options.ticks) {

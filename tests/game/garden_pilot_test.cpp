@@ -160,6 +160,63 @@ TEST(GardenKeys, WalkingStopsToTurnAgainWhenTheHeadingHoldDriftedOffTheLegsEnd) 
   EXPECT_EQ(text(g.decide(++tick, c)), "");
 }
 
+// Go on a walk leg with steering under W (the walk's forward_turn), at speed, 10 m to go along +X
+GardenKeys steering(LegCues* c, int64_t* tick) {
+  game::GardenKeyParams p;
+  p.steer = true;
+  GardenKeys g(keys(), p);
+  *c = restingLeg(0.0, 0.0);
+  c->legRemaining = 10.0, c->endStops = false;
+  untilTurn(&g, *c, tick);
+  while (g.mode() != GardenKeys::Mode::Go && *tick < 200) g.decide(++*tick, *c);
+  c->commandVx = 1.2, c->speed = 0.8;
+  return g;
+}
+
+TEST(GardenKeys, WithSteeringAWalkThatDriftsOffItsWayHoldsATurnKeyUnderW) {
+  LegCues c;
+  int64_t tick = 0;
+  GardenKeys g = steering(&c, &tick);
+  ASSERT_EQ(g.mode(), GardenKeys::Mode::Go);
+  c.legHeading = 0.04;  // within steerOn (0.05 rad): W alone
+  EXPECT_EQ(text(g.decide(++tick, c)), "");
+  c.legHeading = 0.2;  // the path ahead 0.2 rad to the left: A joins W
+  EXPECT_EQ(text(g.decide(++tick, c)), "+A");
+  c.commandWz = 0.5;  // let go once the ramp down (0.5^2 / 6 + 0.5 x 0.25 = 0.167 rad) would end the turn on it
+  c.yaw = 0.02;
+  EXPECT_EQ(text(g.decide(++tick, c)), "");
+  c.yaw = 0.04;  // 0.16 rad to go
+  EXPECT_EQ(text(g.decide(++tick, c)), "-A");
+  EXPECT_EQ(g.mode(), GardenKeys::Mode::Go);  // W still held: no stop
+  c.commandWz = 0.0, c.yaw = 0.0, c.legHeading = -0.1;
+  EXPECT_EQ(text(g.decide(++tick, c)), "+D");
+  // a corner sharper than steerCorner (0.35 rad): stop, to turn in place from rest
+  c.legHeading = -0.5;
+  EXPECT_EQ(text(g.decide(++tick, c)), "-D-W");
+  EXPECT_EQ(g.mode(), GardenKeys::Mode::Stop);
+}
+
+TEST(GardenKeys, WithSteeringAWallAheadOfOneSideIsSteeredAwayFromAndTheLastStretchToAStopIsWalkedSlowly) {
+  LegCues c;
+  int64_t tick = 0;
+  GardenKeys g = steering(&c, &tick);
+  c.rightAhead = 0.6;  // a house's corner 0.6 m ahead of the right side, the left clear: steer left
+  EXPECT_EQ(text(g.decide(++tick, c)), "+A");
+  c.rightAhead = c.leftAhead = 1e9;
+  c.centreAhead = 0.4;  // a wall right ahead of the pelvis: the leg went wrong, stop
+  EXPECT_EQ(text(g.decide(++tick, c)), "-A-W");
+  EXPECT_EQ(g.mode(), GardenKeys::Mode::Stop);
+
+  g = steering(&c, &tick);
+  c.endStops = true, c.legRemaining = 1.4;  // within approachDistance (1.5 m) of the path's end: W only below 0.4
+  EXPECT_EQ(text(g.decide(++tick, c)), "-W");
+  c.commandVx = 0.38;
+  EXPECT_EQ(text(g.decide(++tick, c)), "+W");
+  c.legRemaining = 0.08;  // within the braking distance at 0.38 m/s (0.38^2 / 4 + 0.38 x 0.15 = 0.093 m): stop
+  EXPECT_EQ(text(g.decide(++tick, c)), "-W");
+  EXPECT_EQ(g.mode(), GardenKeys::Mode::Stop);
+}
+
 TEST(GardenKeys, ARunOnALongLegAndTheWalkAgainBeforeItsEnd) {
   LegCues c;
   int64_t tick = 0;
