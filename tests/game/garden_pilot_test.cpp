@@ -134,15 +134,18 @@ TEST(GardenKeys, WIsLetGoWithinTheBrakingDistanceOfTheLegsEnd) {
   EXPECT_EQ(g.mode(), GardenKeys::Mode::Stop);
 }
 
-GardenKeys going(LegCues* c, int64_t* tick) {
+// Go on a walk leg at speed, 10 m to go along +X: with the run allowed, or (`steer`) with steering under W (the walk's
+// forward_turn) and at the walk's 0.8 m/s
+GardenKeys going(LegCues* c, int64_t* tick, bool steer = false) {
   game::GardenKeyParams p;
-  p.useRun = true;
+  p.useRun = !steer;
+  p.steer = steer;
   GardenKeys g(keys(), p);
   *c = restingLeg(0.0, 0.0);
-  c->legRemaining = 10.0;
+  c->legRemaining = 10.0, c->endStops = !steer;
   untilTurn(&g, *c, tick);
   while (g.mode() != GardenKeys::Mode::Go && *tick < 200) g.decide(++*tick, *c);
-  c->commandVx = 1.2, c->speed = 1.2;
+  c->commandVx = 1.2, c->speed = steer ? 0.8 : 1.2;
   return g;
 }
 
@@ -160,23 +163,10 @@ TEST(GardenKeys, WalkingStopsToTurnAgainWhenTheHeadingHoldDriftedOffTheLegsEnd) 
   EXPECT_EQ(text(g.decide(++tick, c)), "");
 }
 
-// Go on a walk leg with steering under W (the walk's forward_turn), at speed, 10 m to go along +X
-GardenKeys steering(LegCues* c, int64_t* tick) {
-  game::GardenKeyParams p;
-  p.steer = true;
-  GardenKeys g(keys(), p);
-  *c = restingLeg(0.0, 0.0);
-  c->legRemaining = 10.0, c->endStops = false;
-  untilTurn(&g, *c, tick);
-  while (g.mode() != GardenKeys::Mode::Go && *tick < 200) g.decide(++*tick, *c);
-  c->commandVx = 1.2, c->speed = 0.8;
-  return g;
-}
-
 TEST(GardenKeys, WithSteeringAWalkThatDriftsOffItsWayHoldsATurnKeyUnderW) {
   LegCues c;
   int64_t tick = 0;
-  GardenKeys g = steering(&c, &tick);
+  GardenKeys g = going(&c, &tick, true);
   ASSERT_EQ(g.mode(), GardenKeys::Mode::Go);
   c.legHeading = 0.04;  // within steerOn (0.05 rad): W alone
   EXPECT_EQ(text(g.decide(++tick, c)), "");
@@ -199,7 +189,7 @@ TEST(GardenKeys, WithSteeringAWalkThatDriftsOffItsWayHoldsATurnKeyUnderW) {
 TEST(GardenKeys, WithSteeringAWallAheadOfOneSideIsSteeredAwayFromAndTheLastStretchToAStopIsWalkedSlowly) {
   LegCues c;
   int64_t tick = 0;
-  GardenKeys g = steering(&c, &tick);
+  GardenKeys g = going(&c, &tick, true);
   c.rightAhead = 0.6;  // a house's corner 0.6 m ahead of the right side, the left clear: steer left
   EXPECT_EQ(text(g.decide(++tick, c)), "+A");
   c.rightAhead = c.leftAhead = 1e9;
@@ -207,7 +197,7 @@ TEST(GardenKeys, WithSteeringAWallAheadOfOneSideIsSteeredAwayFromAndTheLastStret
   EXPECT_EQ(text(g.decide(++tick, c)), "-A-W");
   EXPECT_EQ(g.mode(), GardenKeys::Mode::Stop);
 
-  g = steering(&c, &tick);
+  g = going(&c, &tick, true);
   c.endStops = true, c.legRemaining = 1.4;  // within approachDistance (1.5 m) of the path's end: W only below 0.4
   EXPECT_EQ(text(g.decide(++tick, c)), "-W");
   c.commandVx = 0.38;
