@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include "engine/core/error.h"
@@ -16,7 +17,8 @@ namespace game {
 namespace {
 
 constexpr double kStairsEntryBefore = 0.4;  // the stairs leg starts this far before the path's first stair cell [m]
-constexpr double kStairsEntryReach = 0.5;   // a robot this close to the entry (or past it) takes the stairs leg [m]
+constexpr double kStairsEntryReach = 0.5;   // a robot this close to the entry (or past it) takes the stairs leg [m] ...
+constexpr double kStairsEntryAcross = 0.2;  // ... within this of the staircase's middle line [m]
 constexpr double kStairsExitAfter = 0.3;    // the stairs leg ends this far past the last stair cell [m]
 constexpr double kSkipWaypoint = 0.3;       // a waypoint closer than this along the path is passed [m]
 constexpr double kCornerReach = 0.5;        // steering: a corner is turned (or steered round) this close to it [m]
@@ -41,6 +43,17 @@ Eigen::Vector2d stairsMiddle(const nav::OccupancyGrid& grid, const nav::Path& pa
   while (hi < most && onStairs(hi + step)) hi += step;
   while (lo > -most && onStairs(lo - step)) lo -= step;
   return 0.5 * (lo + hi) * across;
+}
+
+// Every cell within `radius` of cell (ix, iy) is free (no wall, no stairs): room to stand and turn.
+bool roomAround(const nav::OccupancyGrid& grid, int ix, int iy, double radius) {
+  const int r = int(std::ceil(radius / grid.cellSize()));
+  for (int dy = -r; dy <= r; ++dy)
+    for (int dx = -r; dx <= r; ++dx)
+      if (double(dx * dx + dy * dy) * grid.cellSize() * grid.cellSize() <= radius * radius &&
+          grid.kind(ix + dx, iy + dy) != nav::CellKind::Free)
+        return false;
+  return true;
 }
 
 }  // namespace
@@ -197,6 +210,10 @@ std::vector<engine::KeyEvent> GardenKeys::decide(int64_t tick, const LegCues& c)
         goSteering(tick, c, &out);
         break;
       }
+      if (goStairs_ && p_.steerStairs && c.haveLeg && c.legRemaining > brakeDistance(c.commandVx, p_)) {
+        steerUnderW(tick, c, 0.0, &out);  // toward the staircase's middle line
+        break;
+      }
       bool stop = !c.haveLeg || c.legRemaining <= brakeDistance(c.commandVx, p_);
       if (!goStairs_) {
         stop = stop || c.pathChanged || c.movableAhead || c.stairsLeg;  // a stairs leg begins from a stop, squared up
@@ -240,12 +257,18 @@ void GardenKeys::goSteering(int64_t tick, const LegCues& c, std::vector<engine::
     enter(Mode::Stop);
     return;
   }
-  // the last stretch to a stop (the path's end, a staircase's entry) slowly, W pulsed: it stops where it should
-  if (c.endStops && c.legRemaining < p_.approachDistance) {
-    hold(tick, 'A', false, out), hold(tick, 'D', false, out);
-    hold(tick, 'W', c.commandVx < p_.approachSpeed, out);
-    return;
+  // the last stretch to a stop (the path's end, a staircase's entry) slowly, W pulsed: it stops where it should;
+  // it steers only while W is down (A or D alone would turn it in place)
+  const bool approach = c.endStops && c.legRemaining < p_.approachDistance;
+  if (approach) {
+    const bool w = c.commandVx < p_.approachSpeed;
+    hold(tick, 'W', w, out);
+    if (!w) {
+      hold(tick, 'A', false, out), hold(tick, 'D', false, out);
+      return;
+    }
   }
+  const double steerUntil = approach ? p_.approachSteerUntil : p_.returnDistance;
   // a corner or a body close ahead on one side only: steer away from it first
   const bool nearLeft = c.leftAhead < p_.steerAvoid, nearRight = c.rightAhead < p_.steerAvoid;
   if (nearLeft != nearRight) {
@@ -254,13 +277,18 @@ void GardenKeys::goSteering(int64_t tick, const LegCues& c, std::vector<engine::
     return;
   }
   // steer under W toward the path ahead (the walk crabs off its yaw; a replanned path bends)
+  steerUnderW(tick, c, steerUntil, out);
+}
+
+void GardenKeys::steerUnderW(int64_t tick, const LegCues& c, double until, std::vector<engine::KeyEvent>* out) {
+  const double error = std::remainder(c.legHeading - c.yaw, 2.0 * M_PI);
   const bool left = held_.holds('A'), right = held_.holds('D');
   if (left || right) {
     const double wz = std::abs(c.commandWz);
     const double coast = wz * wz / (2.0 * p_.steerRamp) + wz * p_.steerLag;  // turned after the key is let go
-    if (left != (error > 0) || std::abs(error) <= coast || c.legRemaining <= p_.returnDistance)
+    if (left != (error > 0) || std::abs(error) <= coast || c.legRemaining <= until)
       hold(tick, left ? 'A' : 'D', false, out);
-  } else if (std::abs(error) > p_.steerOn && c.legRemaining > p_.returnDistance) {
+  } else if (std::abs(error) > p_.steerOn && c.legRemaining > until) {
     hold(tick, error > 0 ? 'A' : 'D', true, out);
   }
 }
@@ -291,20 +319,24 @@ GardenPilot::GardenPilot(const engine::PlaneWorld& plane, const SkillKeys& keys,
 
 Eigen::Vector2d GardenPilot::drawTarget(const nav::OccupancyGrid& grid, const Eigen::Vector2d& from, bool across,
                                         const TargetDraw& draw, std::mt19937_64* rng) {
-  Eigen::Vector2d fallback = from;
-  bool haveFallback = false;
+  // fallbacks, best first: a crossing at any length (for an across target), one within the ordinary lengths, any
+  std::optional<Eigen::Vector2d> crossing, ordinary, any;
   for (int i = 0; i < draw.tries; ++i) {
     const int ix = std::min(grid.width() - 1, int(unit(*rng) * grid.width()));
     const int iy = std::min(grid.height() - 1, int(unit(*rng) * grid.height()));
     if (grid.kind(ix, iy) != nav::CellKind::Free) continue;
     const Eigen::Vector2d c = grid.centre(ix, iy);
+    if (!roomAround(grid, ix, iy, draw.clearance)) continue;
     const nav::Path path = nav::planPath(grid, from, c);
     if (!path.found || path.length() < draw.minPath) continue;
-    const bool crosses = !path.stairs.empty();
-    if (across ? crosses && path.length() <= draw.acrossMaxPath : path.length() <= draw.maxPath) return c;
-    if (!haveFallback && (crosses || !across)) fallback = c, haveFallback = true;
+    const bool crosses = !path.stairs.empty(), near = path.length() <= draw.maxPath;
+    if (across ? crosses && path.length() <= draw.acrossMaxPath : near) return c;
+    if (crosses && !crossing) crossing = c;
+    if (near && !ordinary) ordinary = c;
+    if (!any) any = c;
   }
-  return fallback;
+  // (from the garden's north end no path crosses a staircase: an across target there is an ordinary one)
+  return crossing && across ? *crossing : ordinary ? *ordinary : any ? *any : from;
 }
 
 void GardenPilot::nextTarget(const Eigen::Vector2d& from) {
@@ -325,7 +357,7 @@ void GardenPilot::nextTarget(const Eigen::Vector2d& from) {
   tally_.targets.push_back(t);
 }
 
-LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) const {
+LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) {
   LegCues c;
   const robot::Sensors& s = session.sensors();
   const Eigen::Vector2d p = s.basePosition.head<2>();
@@ -355,6 +387,7 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
   double* const ahead3[] = {&c.rightAhead, &c.centreAhead, &c.leftAhead};
   for (int k = -1; k <= 1; ++k) nav::obstacleFactor(plane, p + double(k) * halfWidth * left, s.yaw, ray, ahead3[k + 1]);
   const nav::Path& path = nav_->path();
+  if (out.events.replanned) stairsLatch_ = -1;
   if (out.state != nav::NavState::Following || !path.found || path.points.size() < 2) return c;
   c.haveLeg = true;
   const double s0 = out.follow.progress.arc;
@@ -365,18 +398,44 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
       span = &st;
       break;
     }
+  if (!span) stairsLatch_ = -1;
   double entry = 0;
-  Eigen::Vector2d shift = Eigen::Vector2d::Zero();  // from the path's line across the stairs to the stairs' middle
+  Eigen::Vector2d entryPoint = Eigen::Vector2d::Zero();  // where the stairs leg starts: on the stairs' middle line
   if (span) {
     const int j = path.segmentAt(span->from + 1e-3);  // the straight that crosses the stairs starts at point j
     entry = std::max(path.arc[size_t(j)], span->from - kStairsEntryBefore);
-    shift = stairsMiddle(nav_->grid(), path, *span);
-    // on the stairs leg from the staircase's middle line in front of it (or once on the stairs)
-    const bool atEntry = (path.pointAt(entry) + shift - p).norm() < kStairsEntryReach;
-    if ((s0 >= entry - kStairsEntryReach && atEntry) || s0 >= span->from) {
+    // the staircase's middle line: through the middle of its stair cells across the span's middle, along its axis (a
+    // path may cross the stairs up to 5 deg off their axis, so each point is projected onto this line)
+    const Eigen::Vector2d axis(std::cos(span->heading), std::sin(span->heading));
+    const Eigen::Vector2d centre =
+        path.pointAt(0.5 * (span->from + span->to)) + stairsMiddle(nav_->grid(), path, *span);
+    auto onMiddle = [&](const Eigen::Vector2d& q) -> Eigen::Vector2d { return centre + (q - centre).dot(axis) * axis; };
+    // kStairsEntryBefore before the first stair cell on the middle line (a robot radius and that much before the
+    // first riser) when it can be walked to from the path's corner; else where the path's straight begins. (A path
+    // that comes in from the side turns at the stair cells' edge: the stairs started 0.2 m from the riser, and fell.)
+    entryPoint = onMiddle(path.pointAt(entry));
+    const Eigen::Vector2d square = onMiddle(path.pointAt(span->from)) - kStairsEntryBefore * axis;
+    const Eigen::Vector2i cell = nav_->grid().cellAt(square);
+    if ((square - entryPoint).dot(axis) < 0 && nav_->grid().traversable(cell.x(), cell.y()) &&
+        nav::lineOfSight(nav_->grid(), path.pointAt(entry), square, nav_->params().planner.stairLineTolerance))
+      entryPoint = square;
+    // on the stairs leg from the staircase's middle line in front of it (or once on the stairs): within
+    // kStairsEntryAcross of that line (or right at the entry) and no more than kStairsEntryReach short of it
+    const Eigen::Vector2d toRobot = p - entryPoint;
+    const double across = std::abs(axis.x() * toRobot.y() - axis.y() * toRobot.x());
+    const bool atEntry =
+        toRobot.dot(axis) > -kStairsEntryReach && (across < kStairsEntryAcross || toRobot.norm() < kStairsEntryAcross);
+    if (stairsLatch_ != span->from) stairsLatch_ = -1;
+    if (atEntry || s0 >= span->from + kStairsEntryReach) stairsLatch_ = span->from;
+    if (stairsLatch_ >= 0) {
       c.stairsLeg = true;
-      c.legHeading = span->heading;
       c.legRemaining = std::max(0.0, span->to + kStairsExitAfter - s0);
+      // squared up to the axis; on the way, aimed at the middle line a little ahead (steered when the stairs can)
+      c.legHeading = span->heading;
+      if (keys_.mode() == GardenKeys::Mode::Go) {
+        const Eigen::Vector2d aim = onMiddle(p) + keys_.params().steerPursuit * axis - p;
+        c.legHeading = std::atan2(aim.y(), aim.x());
+      }
       return c;
     }
   }
@@ -393,7 +452,7 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
   const bool toStairs = span && entry <= end;
   if (toStairs) end = entry, c.endStops = true;
   // a leg to a staircase ends on the staircase's middle line, square in front of it
-  const Eigen::Vector2d endPoint = path.pointAt(end) + (toStairs ? shift : Eigen::Vector2d::Zero());
+  const Eigen::Vector2d endPoint = toStairs ? entryPoint : path.pointAt(end);
   const Eigen::Vector2d to = endPoint - p;
   c.legRemaining = to.norm();
   // with steering, aim at the path a little ahead (back onto its line) rather than at the leg's end

@@ -93,6 +93,8 @@ struct GardenKeyParams {
   /// more than returnDistance ahead), let go when the ramp down would end it on the heading; the path's corners of at
   /// most steerCorner are walked through, larger ones turned in place from where the walk brakes, without a full stop
   bool steer = false;
+  /// the same under W on a stairs leg, toward the staircase's middle line (the stairs' forward_turn)
+  bool steerStairs = false;
   double steerStartTolerance = 0.15;  ///< [rad]
   double steerOn = 0.05;              ///< [rad]
   double steerCorner = 0.35;          ///< [rad]: a larger heading error is turned in place
@@ -103,6 +105,7 @@ struct GardenKeyParams {
   double steerWallStop = 0.45;        ///< ... and this close ahead of the pelvis, the leg stops [m]
   double approachDistance = 1.5;      ///< the last this much to a stop (the path's end, a staircase) ... [m]
   double approachSpeed = 0.4;         ///< ... is walked at about this command (W held only below it) [m/s]
+  double approachSteerUntil = 0.4;    ///< ... and steered (under W) until this close to its end [m]
   double runMinLeg = 6.0;             ///< run only with this much leg left [m] ...
   double runLeaveLeg = 3.5;           ///< ... and walk again with this much left
   double runFromSpeed = 0.9;          ///< ... and from a walk at least this fast [m/s]
@@ -133,6 +136,7 @@ class GardenKeys {
   void skill(int64_t tick, char key, std::vector<engine::KeyEvent>* out);
   void enter(Mode m);
   void goSteering(int64_t tick, const LegCues& c, std::vector<engine::KeyEvent>* out);
+  void steerUnderW(int64_t tick, const LegCues& c, double until, std::vector<engine::KeyEvent>* out);
 
   SkillKeys keys_;
   GardenKeyParams p_;
@@ -164,14 +168,15 @@ struct GardenTally {
 };
 
 /// How random targets are drawn, as the paper's operator clicked them one after another: cells of the map that are
-/// free (no wall, no stairs), with a path from the previous target (or the spawn) minPath to maxPath long; every
-/// acrossEvery-th one (the 2nd, 5th, ...) needs a path that crosses a staircase (the bridge or the short flight), up to
-/// acrossMaxPath long. Up to `tries` candidates; then the first that crosses a staircase at any length (an across
-/// target), or the first with a path minPath long.
+/// free (no wall, no stairs) with free cells `clearance` around them, with a path from the previous target (or the
+/// spawn) minPath to maxPath long; every acrossEvery-th one (the 2nd, 5th, ...) needs a path that crosses a staircase
+/// (the bridge or the short flight), up to acrossMaxPath long. Up to `tries` candidates; then the first that crosses a
+/// staircase at any length (an across target), or the first with a path minPath long.
 struct TargetDraw {
   double minPath = 4.0;         ///< [m]
   double maxPath = 12.0;        ///< [m] (the paper's sawtooth: target distances mostly under 10 m, one peak near 20 m)
   double acrossMaxPath = 20.0;  ///< [m]
+  double clearance = 0.3;       ///< every map cell within this of the target's is free: 0.75 m from a wall [m]
   int acrossEvery = 3;
   int tries = 400;
 };
@@ -197,7 +202,11 @@ class GardenPilot {
                                     const TargetDraw& draw, std::mt19937_64* rng);
 
  private:
-  LegCues legCues(const Session& session, const nav::NavOutput& out) const;
+  LegCues legCues(const Session& session, const nav::NavOutput& out);
+  /// the staircase (its span's start on the path) whose entry the robot reached: its stairs leg is kept while the
+  /// robot squares up and climbs (the gait's sway would take it in and out of the entry's reach), until the path
+  /// changes or the span is passed; -1: none
+  double stairsLatch_ = -1;
   static constexpr int kYawWindow = 40;  ///< ticks (about one gait cycle)
   std::vector<double> yaws_;             // the last kYawWindow yaws, a ring
   size_t yawNext_ = 0;

@@ -27,6 +27,8 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
     GardenKeyParams keyParams;
     const robot::Skill* walk = options.skills ? options.skills->byName("walk") : nullptr;
     keyParams.steer = walk && walk->def.commands.steerWz > 0;  // W with A or D steers the walk (forward_turn)
+    const robot::Skill* stairs = options.skills ? options.skills->byName("stairs") : nullptr;
+    keyParams.steerStairs = stairs && stairs->def.commands.steerWz > 0;
     garden =
         std::make_unique<GardenPilot>(session.plane(), options.skills ? skillKeys(*options.skills) : SkillKeys{},
                                       options.seed, options.targets, GardenPilot::gardenNavigatorParams(), keyParams);

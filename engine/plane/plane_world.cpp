@@ -70,8 +70,9 @@ RayHit PlaneWorld::rayCast(const Eigen::Vector2d& from, const Eigen::Vector2d& t
       return fraction;  // clip the ray: only closer hits are reported from now on
     }
   } cb;
-  if ((to - from).squaredNorm() > 0)
-    impl_->world.RayCast(&cb, b2Vec2(float(from.x()), float(from.y())), b2Vec2(float(to.x()), float(to.y())));
+  // Box2D works in float and asserts on a ray of zero length: one shorter than float's resolution hits nothing
+  const b2Vec2 a(float(from.x()), float(from.y())), b(float(to.x()), float(to.y()));
+  if ((b - a).LengthSquared() > 0.0f) impl_->world.RayCast(&cb, a, b);
   return cb.best;
 }
 

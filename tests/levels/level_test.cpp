@@ -120,6 +120,15 @@ TEST(PlaneWorld, RayCastHitsTheWallPlacedInTheLevelFile) {
   EXPECT_FALSE(plane.rayCast({0.0, 2.0}, {20.0, 2.0}).hit);
 }
 
+TEST(PlaneWorld, ARayShorterThanFloatResolutionHitsNothingInsteadOfAborting) {
+  // Box2D computes in float and asserts on a zero-length ray; at x = 20 a float's step is 2e-6 m, so a 1e-7 m ray
+  // (what a ray cast on past a staircase's step can leave) is a point there. It used to abort a garden run (seed 19).
+  engine::PlaneWorld plane;
+  plane.addStaticRect({20.5, 10.0}, {0.5, 0.5}, 0.0, 3);
+  EXPECT_FALSE(plane.rayCast({20.0, 10.0}, {20.0 + 1e-7, 10.0}).hit);
+  EXPECT_TRUE(plane.rayCast({19.0, 10.0}, {21.0, 10.0}).hit);
+}
+
 TEST(PlaneWorld, ProximityQueryFindsOnlyNearbyShapes) {
   engine::PlaneWorld plane;
   plane.addStaticRect({2.0, 0.0}, {0.5, 0.5}, 0.0, 7);
