@@ -19,7 +19,8 @@ namespace {
 constexpr double kStairsEntryBefore = 0.4;  // the stairs leg starts this far before the path's first stair cell [m]
 constexpr double kStairsEntryReach = 0.5;   // a robot this close to the entry (or past it) takes the stairs leg [m] ...
 constexpr double kStairsEntryAcross = 0.2;  // ... within this of the staircase's middle line [m]
-constexpr double kStairsExitAfter = 0.3;    // the stairs leg ends this far past the last stair cell [m]
+constexpr double kStairsExitAfter = 0.3;    // the stairs leg ends this far past the last stair cell [m] ...
+constexpr double kStairsExitDone = 0.2;     // ... once the robot is within this of that end (the walk brakes the rest)
 constexpr double kSkipWaypoint = 0.3;       // a waypoint closer than this along the path is passed [m]
 constexpr double kCornerReach = 0.5;        // steering: a corner is turned (or steered round) this close to it [m]
 constexpr double kMovableLook = 0.8;        // a movable body this close ahead of the pelvis stops Go [m]
@@ -210,6 +211,13 @@ std::vector<engine::KeyEvent> GardenKeys::decide(int64_t tick, const LegCues& c)
         goSteering(tick, c, &out);
         break;
       }
+      if (goStairs_ && !c.stairsLeg) {  // the staircase is passed, or the path changed: off the stairs skill
+        releaseMoves(tick, &out);
+        skill(tick, keys_.walk, &out);
+        goStairs_ = false;
+        enter(Mode::Stop);
+        break;
+      }
       if (goStairs_ && p_.steerStairs && c.haveLeg && c.legRemaining > brakeDistance(c.commandVx, p_)) {
         steerUnderW(tick, c, 0.0, &out);  // toward the staircase's middle line
         break;
@@ -298,9 +306,11 @@ void GardenKeys::steerUnderW(int64_t tick, const LegCues& c, double until, std::
 nav::NavigatorParams GardenPilot::gardenNavigatorParams() {
   nav::NavigatorParams p;
   p.reachRadius = 0.5;  // the paper's operator gave the next target within 0.5 m
-  // legs walked straight on a held heading drift 0.1-0.3 m sideways (the walk crabs up to 0.1 rad off its yaw):
-  // 0.1 m more clearance than the navigation's default radius (the 1.1 m alley keeps a 0.18 m wide lane)
-  p.grid.robotRadius = 0.45;
+  // legs drift 0.1-0.3 m sideways (the walk crabs up to 0.1 rad off its yaw, the stairs 0.3-0.5 m over the bridge):
+  // 0.15 m more clearance than the navigation's default radius. At 0.45 m walks past the bridge's foot stepped onto
+  // its first riser or met a railing's end (seeds 1-10: 4 falls, 63 targets; at 0.5 m: 2 falls, 75 targets). The
+  // 1.1 m alley keeps one column of cells through its middle
+  p.grid.robotRadius = 0.5;
   return p;
 }
 
@@ -387,14 +397,14 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
   double* const ahead3[] = {&c.rightAhead, &c.centreAhead, &c.leftAhead};
   for (int k = -1; k <= 1; ++k) nav::obstacleFactor(plane, p + double(k) * halfWidth * left, s.yaw, ray, ahead3[k + 1]);
   const nav::Path& path = nav_->path();
-  if (out.events.replanned) stairsLatch_ = -1;
+  if (out.events.replanned) stairsLatch_ = stairsPassed_ = -1;
   if (out.state != nav::NavState::Following || !path.found || path.points.size() < 2) return c;
   c.haveLeg = true;
   const double s0 = out.follow.progress.arc;
   // the next staircase on the path, and where its leg begins
   const nav::StairsSpan* span = nullptr;
   for (const nav::StairsSpan& st : path.stairs)
-    if (st.to + kStairsExitAfter > s0) {
+    if (st.to + kStairsExitAfter > s0 && st.from != stairsPassed_) {
       span = &st;
       break;
     }
@@ -423,13 +433,20 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
     // kStairsEntryAcross of that line (or right at the entry) and no more than kStairsEntryReach short of it
     const Eigen::Vector2d toRobot = p - entryPoint;
     const double across = std::abs(axis.x() * toRobot.y() - axis.y() * toRobot.x());
-    const bool atEntry =
-        toRobot.dot(axis) > -kStairsEntryReach && (across < kStairsEntryAcross || toRobot.norm() < kStairsEntryAcross);
+    const bool atEntry = std::abs(toRobot.dot(axis)) < kStairsEntryReach &&
+                         (across < kStairsEntryAcross || toRobot.norm() < kStairsEntryAcross);
+    // the leg's end: kStairsExitAfter past the last stair cell on the middle line, measured along the axis (the path's
+    // progress stops at its next corner, and a robot that walked on past it stayed on the stairs leg)
+    const double beyond = (onMiddle(path.pointAt(span->to)) + kStairsExitAfter * axis - p).dot(axis);
     if (stairsLatch_ != span->from) stairsLatch_ = -1;
-    if (atEntry || s0 >= span->from + kStairsEntryReach) stairsLatch_ = span->from;
+    if (beyond > kStairsExitDone && (atEntry || s0 >= span->from + kStairsEntryReach)) stairsLatch_ = span->from;
+    if (beyond <= kStairsExitDone) {  // passed: off the stairs skill, and not onto them again (nor back to them)
+      stairsLatch_ = -1;
+      stairsPassed_ = span->from;
+    }
     if (stairsLatch_ >= 0) {
       c.stairsLeg = true;
-      c.legRemaining = std::max(0.0, span->to + kStairsExitAfter - s0);
+      c.legRemaining = beyond;
       // squared up to the axis; on the way, aimed at the middle line a little ahead (steered when the stairs can)
       c.legHeading = span->heading;
       if (keys_.mode() == GardenKeys::Mode::Go) {

@@ -207,6 +207,8 @@ class GardenPilot {
   /// robot squares up and climbs (the gait's sway would take it in and out of the entry's reach), until the path
   /// changes or the span is passed; -1: none
   double stairsLatch_ = -1;
+  /// the staircase (its span's start) the robot has crossed on the current path: not the next one any more
+  double stairsPassed_ = -1;
   static constexpr int kYawWindow = 40;  ///< ticks (about one gait cycle)
   std::vector<double> yaws_;             // the last kYawWindow yaws, a ring
   size_t yawNext_ = 0;

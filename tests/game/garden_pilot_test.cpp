@@ -207,6 +207,27 @@ TEST(GardenKeys, WithSteeringAWallAheadOfOneSideIsSteeredAwayFromAndTheLastStret
   EXPECT_EQ(g.mode(), GardenKeys::Mode::Stop);
 }
 
+TEST(GardenKeys, WithStairsSteeringAStairsLegIsSteeredUnderWAndLeftForTheWalkOncePassed) {
+  game::GardenKeyParams p;
+  p.steerStairs = true;
+  GardenKeys g(keys(), p);
+  LegCues c = restingLeg(0.0, 0.0);
+  c.stairsLeg = true;
+  int64_t tick = 0;
+  untilTurn(&g, c, &tick);
+  std::string go;
+  while (g.mode() != GardenKeys::Mode::Go && tick < 200) go = text(g.decide(++tick, c));
+  EXPECT_EQ(go, "*2+W");
+  c.commandVx = 0.5, c.speed = 0.5;
+  c.legHeading = -0.1;  // the staircase's middle line ahead lies to the right: D under W
+  EXPECT_EQ(text(g.decide(++tick, c)), "+D");
+  c.commandWz = -0.2, c.yaw = -0.06;  // within the ramp-down's 0.2^2 / 6 + 0.2 x 0.25 = 0.057 rad: let go
+  EXPECT_EQ(text(g.decide(++tick, c)), "-D");
+  c.stairsLeg = false;  // the staircase passed: W up, the walk's key, and a stop
+  EXPECT_EQ(text(g.decide(++tick, c)), "-W*0");
+  EXPECT_EQ(g.mode(), GardenKeys::Mode::Stop);
+}
+
 TEST(GardenKeys, ARunOnALongLegAndTheWalkAgainBeforeItsEnd) {
   LegCues c;
   int64_t tick = 0;
