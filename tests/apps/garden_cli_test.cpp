@@ -42,6 +42,16 @@ TEST(GardenCli, TheGardenPilotReachesTargetsWithoutAFall) {
   EXPECT_NE(csv.find("reached"), std::string::npos);
 }
 
+TEST(GardenCli, AGardenRunReplaysTickForTick) {
+  // the pilot acts by key events only (steering included: W with A or D), so its recording replays exactly
+  const std::string dir = tempDir("replay");
+  const CliRun r = run("play levels/garden --autopilot --seconds 30 --seed 3 --record " + dir + "/g.replay");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const CliRun v = run("replay " + dir + "/g.replay --verify");
+  EXPECT_EQ(v.code, 0) << v.out;
+  EXPECT_NE(v.out.find("identical: 60 state hashes over 3000 ticks match"), std::string::npos) << v.out;
+}
+
 TEST(GardenCli, ATargetsFileWithABadLineIsRefusedWithItsFileAndLine) {
   const std::string dir = tempDir("targets");
   {
