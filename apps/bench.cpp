@@ -16,6 +16,7 @@
 #include "engine/render/png_writer.h"
 #include "engine/render/renderer.h"
 #include "game/play.h"
+#include "levels/garden_layout.h"
 #include "levels/level.h"
 #include "levels/variant.h"
 #include "robot/robot.h"
@@ -43,7 +44,7 @@ struct AutopilotRun {
   std::string label;  // "seed 3", "variant 3"
 };
 struct Totals {
-  int wins = 0, falls = 0;
+  int wins = 0, falls = 0, targets = 0, withoutFall = 0;
 };
 
 // plays each run by autopilot until it is won or lost, two at a time; a line on stderr as each one ends, then a
@@ -63,11 +64,18 @@ Totals playByAutopilot(const std::vector<AutopilotRun>& runs, const robot::Robot
       ap.skills = &skills;
       ap.autopilot = true;
       ap.hashEvery = 0;
-      ap.ticks = engine::secondsToTicks(level.timeLimit > 0 ? level.timeLimit + 0.5 : 600.0);  // until it ends
+      // until it ends; a map (the garden) for the paper's 240 s
+      ap.ticks = engine::secondsToTicks(game::isMapLevel(level) ? 240.0
+                                        : level.timeLimit > 0   ? level.timeLimit + 0.5
+                                                                : 600.0);
       results[size_t(i)] = game::play(level, model, ap);
       const std::lock_guard<std::mutex> lock(progress);
+      const game::PlayResult& r = results[size_t(i)];
       std::fprintf(stderr, "bench: %d of %d played (%s: %s, %.0f s wall so far)\n", ++done, n,
-                   runs[size_t(i)].label.c_str(), results[size_t(i)].outcome == game::Outcome::Won ? "won" : "lost",
+                   runs[size_t(i)].label.c_str(),
+                   r.garden.played                   ? (std::to_string(r.garden.targetsReached) + " targets").c_str()
+                   : r.outcome == game::Outcome::Won ? "won"
+                                                     : "lost",
                    since(start));
     }
   };
@@ -81,13 +89,24 @@ Totals playByAutopilot(const std::vector<AutopilotRun>& runs, const robot::Robot
     const bool won = p.outcome == game::Outcome::Won;
     t.wins += won;
     t.falls += p.telemetry.falls;
+    t.withoutFall += p.telemetry.falls == 0;
+    t.targets += p.garden.targetsReached;
     for (const auto& [skill, k] : p.telemetry.fallsBySkill) bySkill[skill] += k;
+    const std::string what = p.garden.played ? std::to_string(p.garden.targetsReached) + " targets of " +
+                                                   std::to_string(p.garden.targetsGiven) + " given, " +
+                                                   std::to_string(p.garden.stuck) + " stuck"
+                                             : p.outcomeReason;
     std::printf("  autopilot %-12s %-4s %-52s %7.2f s  falls %d%s%s\n", runs[size_t(i)].label.c_str(),
-                won ? "won" : "lost", p.outcomeReason.c_str(), double(p.ticks) * engine::kTickSeconds,
-                p.telemetry.falls, p.telemetry.falls ? ": " : "",
+                p.garden.played ? ""
+                : won           ? "won"
+                                : "lost",
+                what.c_str(), double(p.ticks) * engine::kTickSeconds, p.telemetry.falls, p.telemetry.falls ? ": " : "",
                 game::fallsBySkillText(p.telemetry.fallsBySkill).c_str());
   }
-  std::printf("  total: won %d of %d, %d falls (%.2f a run)%s%s\n", t.wins, n, t.falls, n ? double(t.falls) / n : 0.0,
+  const std::string outcome = n && results[0].garden.played
+                                  ? std::to_string(t.targets) + " targets"
+                                  : "won " + std::to_string(t.wins) + " of " + std::to_string(n);
+  std::printf("  total: %s, %d falls (%.2f a run)%s%s\n", outcome.c_str(), t.falls, n ? double(t.falls) / n : 0.0,
               t.falls ? "; by skill: " : "", game::fallsBySkillText(bySkill).c_str());
   return t;
 }
@@ -97,7 +116,7 @@ Totals playByAutopilot(const std::vector<AutopilotRun>& runs, const robot::Robot
 int runBench(const BenchOptions& o) {
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   // --autopilot's level and skills, loaded before the timings so that a missing file stops it at once
-  const bool autopilot = o.autopilotSeeds > 0 || o.variants > 0;
+  const bool autopilot = o.autopilotSeeds > 0 || o.variants > 0 || o.gardens > 0;
   const levels::Level mario = autopilot ? levels::loadLevel("levels/mario") : levels::Level{};
   const robot::SkillSet skills = autopilot ? loadSkills(model) : robot::SkillSet{};
   std::ostringstream csv;
@@ -183,6 +202,30 @@ int runBench(const BenchOptions& o) {
     const Totals t = playByAutopilot(runs, model, skills);
     report("autopilot_variants_wins", t.wins, "variants", ("of " + std::to_string(o.variants)).c_str());
     report("autopilot_variants_falls", t.falls, "falls", "(over all the variants)");
+  }
+
+  // the garden at seeds 1..N and random garden layouts 1..N (levels/garden_layout.h, layout N at seed N), 240 s each
+  if (o.gardens > 0) {
+    const levels::Level garden = levels::loadLevel("levels/garden");
+    std::vector<levels::Level> layouts;
+    layouts.reserve(size_t(o.gardens));
+    for (int i = 1; i <= o.gardens; ++i) {
+      const levels::GardenLayout g = levels::drawGardenLayout(uint64_t(i));
+      layouts.push_back(levels::parseLevel(levels::gardenLayoutToml(g), "garden layout " + std::to_string(i)));
+      std::printf("  layout %-3d %s\n", i, levels::describeGardenLayout(g).c_str());
+    }
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<AutopilotRun> runs;
+      for (int i = 1; i <= o.gardens; ++i)
+        runs.push_back({pass == 0 ? &garden : &layouts[size_t(i - 1)], uint64_t(i),
+                        (pass == 0 ? "garden " : "layout ") + std::to_string(i)});
+      const Totals t = playByAutopilot(runs, model, skills);
+      const std::string of = "(over " + std::to_string(o.gardens) + " runs of 240 s)";
+      report(pass == 0 ? "autopilot_garden_targets" : "autopilot_layouts_targets", t.targets, "targets", of.c_str());
+      report(pass == 0 ? "autopilot_garden_falls" : "autopilot_layouts_falls", t.falls, "falls", of.c_str());
+      report(pass == 0 ? "autopilot_garden_runs_without_fall" : "autopilot_layouts_runs_without_fall", t.withoutFall,
+             "runs", ("of " + std::to_string(o.gardens)).c_str());
+    }
   }
 
   if (!o.csv.empty()) engine::writeFileAtomic(o.csv, csv.str());

@@ -21,6 +21,7 @@ struct BenchOptions {
   std::string csv;         ///< optional CSV output path
   int autopilotSeeds = 0;  ///< also play levels/mario by autopilot at seeds 1..N (wins, times, falls)
   int variants = 0;  ///< also play variants 1..N of levels/mario by autopilot (levels/variant.h), variant N at seed N
+  int gardens = 0;   ///< also play levels/garden at seeds 1..N and garden layouts 1..N for 240 s each by autopilot
 };
 
 /// Runs the benchmarks and prints a table; returns the exit code.

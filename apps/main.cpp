@@ -18,6 +18,7 @@
 #include "engine/render/frame_output.h"
 #include "game/garden_pilot.h"
 #include "game/play.h"
+#include "levels/garden_layout.h"
 #include "levels/level.h"
 #include "levels/variant.h"
 #include "robot/robot_model.h"
@@ -367,15 +368,24 @@ struct VariantArgs {
 };
 
 // writes seed's variant of a Mario-style level to OUT/level.toml (checked to load first; written atomically)
+// (a map level, plane "top": a random garden layout, levels/garden_layout.h)
 int cmdVariant(const VariantArgs& a) {
   const levels::Level base = levels::loadLevel(a.level);
-  const levels::MarioVariant v = levels::drawMarioVariant(a.seed, int(base.questionBoxes.size()));
-  const std::string text = levels::marioVariantToml(base, v);
+  std::string text, description;
+  if (game::isMapLevel(base)) {
+    const levels::GardenLayout g = levels::drawGardenLayout(a.seed);
+    text = levels::gardenLayoutToml(g), description = levels::describeGardenLayout(g);
+  } else {
+    const levels::MarioVariant v = levels::drawMarioVariant(a.seed, int(base.questionBoxes.size()));
+    text = levels::marioVariantToml(base, v), description = levels::describeVariant(v);
+  }
+  levels::parseLevel(text,
+                     "variant " + std::to_string(a.seed) + " of " + base.path);  // it loads, or nothing is written
   engine::makeDirectories(a.out);
   const std::string path = (std::filesystem::path(a.out) / "level.toml").string();
   engine::writeFileAtomic(path, text);
   std::printf("variant    %s (seed %llu of %s): %s\n", path.c_str(), static_cast<unsigned long long>(a.seed),
-              base.path.c_str(), levels::describeVariant(v).c_str());
+              base.path.c_str(), description.c_str());
   return 0;
 }
 
@@ -449,9 +459,11 @@ int main(int argc, char** argv) {
   VariantArgs variant;
   CLI::App* variantCmd = app.add_subcommand(
       "variant",
-      "Write a variant of a Mario-style course drawn from a seed (stairs, tunnel, question boxes, ball, ghost "
-      "speed; ranges in levels/variant.h) to OUT/level.toml");
-  variantCmd->add_option("level", variant.level, "The course it varies: a level folder or .toml file (levels/mario)")
+      "Write a variant drawn from a seed to OUT/level.toml: of a Mario-style course (stairs, tunnel, question boxes, "
+      "ball, ghost speed; ranges in levels/variant.h), or for a map level (levels/garden) a random garden layout "
+      "(river and bridge, short staircase, houses, balls; levels/garden_layout.h)");
+  variantCmd
+      ->add_option("level", variant.level, "The level it varies: a folder or .toml file (levels/mario, levels/garden)")
       ->required();
   variantCmd->add_option("--seed", variant.seed, "Seed of the variant (the same seed writes the same file)")
       ->check(seedNumber)
@@ -503,6 +515,12 @@ int main(int argc, char** argv) {
       ->add_option("--variants", bench.variants,
                    "Also play variants 1..N of levels/mario (treelearn variant) by autopilot (two at a time) and "
                    "report each one's outcome, time and falls by skill, and the totals")
+      ->check(CLI::Range(1, 1000));
+  benchCmd
+      ->add_option("--gardens", bench.gardens,
+                   "Also play levels/garden at seeds 1..N and random garden layouts 1..N (treelearn variant "
+                   "levels/garden; layout N at seed N) by autopilot for 240 s each (two at a time), and report targets "
+                   "reached, falls and runs without a fall for each set")
       ->check(CLI::Range(1, 1000));
 
   apps::TrainOptions train;

@@ -21,6 +21,7 @@ constexpr double kStairsEntryReach = 0.5;   // a robot this close to the entry (
 constexpr double kStairsEntryAcross = 0.2;  // ... within this of the staircase's middle line [m]
 constexpr double kStairsExitAfter = 0.3;    // the stairs leg ends this far past the last stair cell [m] ...
 constexpr double kStairsExitDone = 0.2;     // ... once the robot is within this of that end (the walk brakes the rest)
+constexpr double kStairsLost = 1.5;         // a robot this far across from the staircase's middle line has left it [m]
 constexpr double kSkipWaypoint = 0.3;       // a waypoint closer than this along the path is passed [m]
 constexpr double kCornerReach = 0.5;        // steering: a corner is turned (or steered round) this close to it [m]
 constexpr double kMovableLook = 0.8;        // a movable body this close ahead of the pelvis stops Go [m]
@@ -397,18 +398,42 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
   double* const ahead3[] = {&c.rightAhead, &c.centreAhead, &c.leftAhead};
   for (int k = -1; k <= 1; ++k) nav::obstacleFactor(plane, p + double(k) * halfWidth * left, s.yaw, ray, ahead3[k + 1]);
   const nav::Path& path = nav_->path();
-  if (out.events.replanned) stairsLatch_ = stairsPassed_ = -1;
+  if (out.events.replanned) stairsPassed_ = -1;
   if (out.state != nav::NavState::Following || !path.found || path.points.size() < 2) return c;
   c.haveLeg = true;
   const double s0 = out.follow.progress.arc;
   // the next staircase on the path, and where its leg begins
+  // a staircase being crossed (latched at its entry): its leg, by the robot's place along it, whatever the path does
+  // (a path replanned on the stairs starts on them, and the walk took over on a deck)
+  if (latch_.on) {
+    const Eigen::Vector2d d = p - latch_.centre;
+    const double beyond = latch_.exitAlong - d.dot(latch_.axis);
+    const double across = std::abs(latch_.axis.x() * d.y() - latch_.axis.y() * d.x());
+    if (beyond > kStairsExitDone && across < kStairsLost) {
+      c.stairsLeg = true;
+      c.legRemaining = beyond;
+      // squared up to the axis; on the way, aimed at the middle line a little ahead (steered when the stairs can)
+      c.legHeading = latch_.heading;
+      if (keys_.mode() == GardenKeys::Mode::Go) {
+        const Eigen::Vector2d aim =
+            latch_.centre + (d.dot(latch_.axis) + keys_.params().steerPursuit) * latch_.axis - p;
+        c.legHeading = std::atan2(aim.y(), aim.x());
+      }
+      return c;
+    }
+    latch_.on = false;  // passed (or lost): off the stairs skill, and not onto them again (nor back to them)
+    for (const nav::StairsSpan& st : path.stairs)
+      if (st.to + kStairsExitAfter > s0) {
+        stairsPassed_ = st.from;
+        break;
+      }
+  }
   const nav::StairsSpan* span = nullptr;
   for (const nav::StairsSpan& st : path.stairs)
     if (st.to + kStairsExitAfter > s0 && st.from != stairsPassed_) {
       span = &st;
       break;
     }
-  if (!span) stairsLatch_ = -1;
   double entry = 0;
   Eigen::Vector2d entryPoint = Eigen::Vector2d::Zero();  // where the stairs leg starts: on the stairs' middle line
   if (span) {
@@ -429,31 +454,20 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
     if ((square - entryPoint).dot(axis) < 0 && nav_->grid().traversable(cell.x(), cell.y()) &&
         nav::lineOfSight(nav_->grid(), path.pointAt(entry), square, nav_->params().planner.stairLineTolerance))
       entryPoint = square;
-    // on the stairs leg from the staircase's middle line in front of it (or once on the stairs): within
-    // kStairsEntryAcross of that line (or right at the entry) and no more than kStairsEntryReach short of it
+    // the stairs leg starts on the staircase's middle line in front of it: within kStairsEntryAcross of that line (or
+    // right at the entry) and within kStairsEntryReach of the entry along it; or on the stairs already
     const Eigen::Vector2d toRobot = p - entryPoint;
     const double across = std::abs(axis.x() * toRobot.y() - axis.y() * toRobot.x());
     const bool atEntry = std::abs(toRobot.dot(axis)) < kStairsEntryReach &&
                          (across < kStairsEntryAcross || toRobot.norm() < kStairsEntryAcross);
-    // the leg's end: kStairsExitAfter past the last stair cell on the middle line, measured along the axis (the path's
-    // progress stops at its next corner, and a robot that walked on past it stayed on the stairs leg)
-    const double beyond = (onMiddle(path.pointAt(span->to)) + kStairsExitAfter * axis - p).dot(axis);
-    if (stairsLatch_ != span->from) stairsLatch_ = -1;
-    if (beyond > kStairsExitDone && (atEntry || s0 >= span->from + kStairsEntryReach)) stairsLatch_ = span->from;
-    if (beyond <= kStairsExitDone) {  // passed: off the stairs skill, and not onto them again (nor back to them)
-      stairsLatch_ = -1;
-      stairsPassed_ = span->from;
-    }
-    if (stairsLatch_ >= 0) {
-      c.stairsLeg = true;
-      c.legRemaining = beyond;
-      // squared up to the axis; on the way, aimed at the middle line a little ahead (steered when the stairs can)
-      c.legHeading = span->heading;
-      if (keys_.mode() == GardenKeys::Mode::Go) {
-        const Eigen::Vector2d aim = onMiddle(p) + keys_.params().steerPursuit * axis - p;
-        c.legHeading = std::atan2(aim.y(), aim.x());
-      }
-      return c;
+    const Eigen::Vector2i here = nav_->grid().cellAt(p);
+    const bool onStairs = nav_->grid().kind(here.x(), here.y()) == nav::CellKind::Stairs && s0 >= span->from;
+    // the leg's end: kStairsExitAfter past the last stair cell on the middle line, measured along the axis
+    const double exitAlong = (onMiddle(path.pointAt(span->to)) + kStairsExitAfter * axis - centre).dot(axis);
+    const bool ahead = exitAlong - (p - centre).dot(axis) > kStairsExitDone;
+    if (ahead && (atEntry || onStairs || s0 >= span->from + kStairsEntryReach)) {
+      latch_ = {true, centre, axis, span->heading, exitAlong};
+      return legCues(session, out);  // the latched leg's cues (once: its end is ahead)
     }
   }
   // the leg ends at the next waypoint ahead; with steering, a corner is taken from kCornerReach before it

@@ -203,10 +203,15 @@ class GardenPilot {
 
  private:
   LegCues legCues(const Session& session, const nav::NavOutput& out);
-  /// the staircase (its span's start on the path) whose entry the robot reached: its stairs leg is kept while the
-  /// robot squares up and climbs (the gait's sway would take it in and out of the entry's reach), until the path
-  /// changes or the span is passed; -1: none
-  double stairsLatch_ = -1;
+  /// the staircase whose entry the robot reached, in the world: its stairs leg is kept while the robot squares up and
+  /// climbs (the gait's sway would take it in and out of the entry's reach, a replan would start on the stairs) until
+  /// it is passed: its middle line (a point, the axis, the heading up or down it) and where the leg ends along it
+  struct StairsLatch {
+    bool on = false;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero(), axis = Eigen::Vector2d::UnitX();
+    double heading = 0, exitAlong = 0;
+  };
+  StairsLatch latch_;
   /// the staircase (its span's start) the robot has crossed on the current path: not the next one any more
   double stairsPassed_ = -1;
   static constexpr int kYawWindow = 40;  ///< ticks (about one gait cycle)
