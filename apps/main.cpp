@@ -2,6 +2,7 @@
 // arguments with CLI11, turns engine::Error into "error: ..." and exit code 2.
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -368,11 +369,13 @@ struct VariantArgs {
 };
 
 // writes seed's variant of a Mario-style level to OUT/level.toml (checked to load first; written atomically)
-// (a map level, plane "top": a random garden layout, levels/garden_layout.h)
+// (a map level with a staircase, levels/garden: a random garden layout, levels/garden_layout.h)
 int cmdVariant(const VariantArgs& a) {
   const levels::Level base = levels::loadLevel(a.level);
   std::string text, description;
-  if (game::isMapLevel(base)) {
+  const bool garden = game::isMapLevel(base) && std::any_of(base.boxes.begin(), base.boxes.end(),
+                                                            [](const levels::BoxDef& b) { return b.stairs; });
+  if (garden) {  // a map with a staircase (levels/garden; not levels/flat)
     const levels::GardenLayout g = levels::drawGardenLayout(a.seed);
     text = levels::gardenLayoutToml(g), description = levels::describeGardenLayout(g);
   } else {
