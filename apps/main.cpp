@@ -509,22 +509,20 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 3600.0));
   benchCmd->add_option("--frames", bench.frames, "Frames per rendering measurement")->check(CLI::Range(1, 100000));
   benchCmd->add_option("--csv", bench.csv, "Also write the results as CSV");
-  benchCmd
-      ->add_option(
-          "--autopilot", bench.autopilotSeeds,
-          "Also play levels/mario by autopilot at seeds 1..N (two at a time) and report wins, winning times and falls")
-      ->check(CLI::Range(1, 1000));
-  benchCmd
-      ->add_option("--variants", bench.variants,
-                   "Also play variants 1..N of levels/mario (treelearn variant) by autopilot (two at a time) and "
-                   "report each one's outcome, time and falls by skill, and the totals")
-      ->check(CLI::Range(1, 1000));
-  benchCmd
-      ->add_option("--gardens", bench.gardens,
-                   "Also play levels/garden at seeds 1..N and random garden layouts 1..N (treelearn variant "
-                   "levels/garden; layout N at seed N) by autopilot for 240 s each (two at a time), and report targets "
-                   "reached, falls and runs without a fall for each set")
-      ->check(CLI::Range(1, 1000));
+  // the autopilot's runs: how many seeds, variants or gardens
+  auto runsOption = [&](const char* name, int* n, const char* help) {
+    benchCmd->add_option(name, *n, help)->check(CLI::Range(1, 1000));
+  };
+  runsOption("--autopilot", &bench.autopilotSeeds,
+             "Also play levels/mario by autopilot at seeds 1..N (two at a time) and report wins, winning times and "
+             "falls");
+  runsOption("--variants", &bench.variants,
+             "Also play variants 1..N of levels/mario (treelearn variant) by autopilot (two at a time) and report "
+             "each one's outcome, time and falls by skill, and the totals");
+  runsOption("--gardens", &bench.gardens,
+             "Also play levels/garden at seeds 1..N and random garden layouts 1..N (treelearn variant levels/garden; "
+             "layout N at seed N) by autopilot for 240 s each (two at a time), and report targets reached, falls and "
+             "runs without a fall for each set");
 
   apps::TrainOptions train;
   CLI::App* trainCmd = app.add_subcommand("train",
