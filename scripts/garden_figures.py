@@ -8,10 +8,13 @@ centre-of-mass ones). Writes into OUTDIR (created if missing), each PNG atomical
   trajectory.png      the pelvis path seen from above over the map (the level's boxes, drawn from level.toml: plotting
                       only), targets numbered, reached ones filled
   com_xyz.png         pelvis x, y and height over time
-  target_distance.png distance to the current target over time, with target reached / stuck events
+  target_distance.png distance to the current target over time, with target reached / stuck events, and the
+                      obstacle factor below it
   gait_share.png      pie of each skill's share of the time
+  statistics.png      the paper's statistics figure: the gait pie, a bar of targets reached and stuck recoveries, and
+                      a histogram of the forward speed
   commands.png        vr and wr (the keys' command) over time
-  phase_portrait.png  vr against wr
+  phase_portrait.png  vr against wr, coloured by the target's bearing off the heading, with the keys' boundary
   gait_band.png       the skill in control as a colour band over time
   roll_pitch.png      pelvis roll and pitch over time
 Needs matplotlib (Debian: python3-matplotlib, in scripts/setup.sh). Exit code 2 on bad input, with the reason.
@@ -34,8 +37,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 
 SKILL_COLOURS = {"walk": "#2e7d32", "run": "#c62828", "stairs": "#1565c0", "stand": "#9e9e9e"}
-NEEDED = ["t_s", "skill", "pelvis_x_m", "pelvis_y_m", "pelvis_z_m", "vr_m_per_s", "wr_rad_per_s", "target",
-          "target_x_m", "target_y_m", "target_distance_m", "roll_rad", "pitch_rad", "events"]
+NEEDED = ["t_s", "skill", "yaw_rad", "pelvis_x_m", "pelvis_y_m", "pelvis_z_m", "vel_x_m_per_s", "vel_y_m_per_s",
+          "vr_m_per_s", "wr_rad_per_s", "target", "target_x_m", "target_y_m", "target_distance_m", "target_angle_rad",
+          "obstacle_factor", "roll_rad", "pitch_rad", "events"]
+# the commands the keys reach with the walk (tree.toml: W 1.2 m/s, A / D 1.0 rad/s, W with A or D 0.6 m/s at 0.5 rad/s;
+# vx ramps 0.02 m/s and wz 0.03 rad/s a tick): from W, pressing A brings wz to 0.5 in 17 ticks while vx falls to 0.86;
+# letting W go under A brings wz to 1.0 in 17 ticks while vx falls from 0.6 to 0.26. Their outline is the keys'
+# speed-turn interlock boundary (wr, vr)
+KEYS_BOUNDARY = [(-1.0, 0.0), (-1.0, 0.26), (-0.5, 0.86), (0.0, 1.2), (0.5, 0.86), (1.0, 0.26), (1.0, 0.0)]
 
 
 def fail(message):
@@ -151,15 +160,18 @@ def figures(d, boxes, outdir):
     axes[-1].set_xlabel("time [s]")
     written.append(save(fig, outdir, "com_xyz.png"))
 
-    fig, ax = plt.subplots(figsize=(9, 4))
+    fig, (ax, axf) = plt.subplots(2, 1, figsize=(9, 5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
     ax.plot(t, d["target_distance_m"], lw=1)
     for x in event_times(d, "reached"):
         ax.axvline(x, color="#2e7d32", lw=0.8, alpha=0.7)
     for x in event_times(d, "stuck"):
         ax.axvline(x, color="#c62828", lw=1.2, ls="--")
-    ax.set_xlabel("time [s]")
     ax.set_ylabel("distance to target [m]")
     ax.set_title("target distance (green: target reached, red dashed: stuck)")
+    axf.plot(t, d["obstacle_factor"], lw=1, color="#ef6c00")
+    axf.set_ylim(-0.05, 1.05)
+    axf.set_ylabel("obstacle factor")
+    axf.set_xlabel("time [s]")
     written.append(save(fig, outdir, "target_distance.png"))
 
     counts = {}
@@ -172,6 +184,25 @@ def figures(d, boxes, outdir):
     ax.set_title("gait share of the time")
     written.append(save(fig, outdir, "gait_share.png"))
 
+    # the paper's statistics figure: gait share, targets and stuck recoveries, forward speed
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(13, 4))
+    a1.pie([counts[s] for s in names], labels=names, autopct="%.1f%%",
+           colors=[SKILL_COLOURS.get(s, "#777777") for s in names])
+    a1.set_title("gait share")
+    reached_n, stuck_n = len(event_times(d, "reached")), len(event_times(d, "stuck"))
+    bars = a2.bar(["targets reached", "stuck recoveries"], [reached_n, stuck_n], color=["#2e7d32", "#c62828"])
+    for b, v in zip(bars, [reached_n, stuck_n]):
+        a2.annotate(str(v), (b.get_x() + b.get_width() / 2, v), ha="center", va="bottom")
+    a2.set_title("navigation")
+    forward = [vx * math.cos(y) + vy * math.sin(y)
+               for vx, vy, y in zip(d["vel_x_m_per_s"], d["vel_y_m_per_s"], d["yaw_rad"])]
+    a3.hist(forward, bins=40, color="#1565c0")
+    a3.set_xlabel("forward speed [m/s]")
+    a3.set_ylabel("samples (50 Hz)")
+    a3.set_title("forward speed")
+    fig.tight_layout()
+    written.append(save(fig, outdir, "statistics.png"))
+
     fig, axes = plt.subplots(2, 1, figsize=(9, 5), sharex=True)
     axes[0].plot(t, d["vr_m_per_s"], lw=1)
     axes[0].set_ylabel("vr [m/s]")
@@ -180,11 +211,16 @@ def figures(d, boxes, outdir):
     axes[1].set_xlabel("time [s]")
     written.append(save(fig, outdir, "commands.png"))
 
-    fig, ax = plt.subplots(figsize=(5, 5))
-    ax.scatter(d["wr_rad_per_s"], d["vr_m_per_s"], s=2, alpha=0.3)
+    fig, ax = plt.subplots(figsize=(6, 5))
+    angle = [abs(math.degrees(a)) if not math.isnan(a) else 0.0 for a in d["target_angle_rad"]]
+    sc = ax.scatter(d["wr_rad_per_s"], d["vr_m_per_s"], s=3, alpha=0.5, c=angle, cmap="coolwarm", vmin=0, vmax=120)
+    fig.colorbar(sc, ax=ax, label="|target angle| [deg]")
+    ax.plot([p[0] for p in KEYS_BOUNDARY], [p[1] for p in KEYS_BOUNDARY], "--", color="#555555", lw=1,
+            label="the keys' interlock boundary (walk)")
+    ax.legend(loc="lower center", fontsize=8)
     ax.set_xlabel("wr [rad/s]")
     ax.set_ylabel("vr [m/s]")
-    ax.set_title("vr-wr phase portrait (the keys' interlock: one axis at a time)")
+    ax.set_title("vr-wr phase portrait")
     written.append(save(fig, outdir, "phase_portrait.png"))
 
     fig, ax = plt.subplots(figsize=(9, 1.6))

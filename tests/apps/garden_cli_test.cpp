@@ -86,8 +86,8 @@ TEST(GardenFigures, TheScriptWritesEveryFigureAsAPngFromASmallLog) {
   }
   const CliRun r = shell(python + " scripts/garden_figures.py " + dir + "/log.csv " + dir + "/out");
   ASSERT_EQ(r.code, 0) << r.out;
-  for (const char* name : {"trajectory", "com_xyz", "target_distance", "gait_share", "commands", "phase_portrait",
-                           "gait_band", "roll_pitch"}) {
+  for (const char* name : {"trajectory", "com_xyz", "target_distance", "gait_share", "statistics", "commands",
+                           "phase_portrait", "gait_band", "roll_pitch"}) {
     const std::string path = dir + "/out/" + name + ".png";
     ASSERT_TRUE(fs::exists(path)) << path << "\n" << r.out;
     const std::string bytes = engine::readFile(path);
