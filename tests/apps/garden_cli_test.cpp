@@ -100,7 +100,7 @@ TEST(GardenFigures, TheScriptWritesEveryFigureAsAPngFromASmallLog) {
   // no temporary file left behind (each figure is written atomically)
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir + "/out")) files += e.is_regular_file();
-  EXPECT_EQ(files, 8);
+  EXPECT_EQ(files, 9);
   // a log without the garden's columns is refused with the reason
   {
     std::ofstream f(dir + "/com.csv");
