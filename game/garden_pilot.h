@@ -4,26 +4,25 @@
 // chosen on the way (walk, run on long straight legs, stairs squared up at a staircase). It acts by key events
 // only, so a recorded run replays from its keys like any other.
 //
-// The key scheme (GardenKeys). The keyboard's interlock lets one of vx, vy, wz be non-zero at a time (W/S, Q/E, A/D),
-// so the pilot cannot steer while it walks. It follows the path leg by leg instead:
+// The key scheme (GardenKeys). It follows the path leg by leg:
 //
-//   Stop   every movement key up; wait until the command is 0 and the robot at rest (kSettleTicks)
+//   Stop   every movement key up; wait until the command is 0 and the robot at rest (settleTicks)
 //   Turn   A or D held toward the leg's heading, let go early enough that the turn's ramp-down (3 rad/s^2) and the
-//          skill's lag end it on the heading (turnRelease); after settling, again (shorter) until within the
-//          tolerance (walk legs 0.05 rad, stairs 0.04 rad) or kMaxTurnTries
-//   Go     the leg's skill key (0 walk, 1 run, 2 stairs) and W held: the runtime's heading hold keeps W straight on the
-//          heading it started with (robot::shapeCommand). W is let go when the leg's end is within the braking
-//          distance (brakeDistance: the 2 m/s^2 ramp and a lag)
+//          skill's lag end it on the heading (turnRelease); after settling, again until within the tolerance (walk
+//          legs 0.15 rad with steering, stairs legs 0.05 rad) or maxTurnTries
+//   Go     the leg's skill key (0 walk, 2 stairs; 1 run on a long leg when useRun) and W held. With the skill's
+//          forward_turn (engine::CommandInput: W with A or D drives and turns together) A or D is held under W to
+//          steer toward the path 1.5 m ahead (a stairs leg: toward the staircase's middle line), and away from a wall
+//          ahead of one side. A walk leg stops (then turns from rest) at a corner sharper than steerCorner, at a wall
+//          or a ball right ahead, and at its end where the path ends or a staircase begins, the last 1.5 m walked
+//          slowly; a stairs leg is walked to its end. Without forward_turn the runtime's heading hold keeps W
+//          straight and a drifting walk stops to turn again (returnHeading)
 //   Back   S held while the navigation backs off a stuck robot
 //
-//   A leg runs from the robot to the path's next waypoint; before a staircase it ends at the stairs' entry (0.4 m
-//   before the path's first stair cell, or the waypoint where the straight that crosses the stairs begins), and the
-//   stairs leg that follows runs along the staircase's axis to 0.3 m past its last stair cell. Go turns into Stop
-//   again at the leg's end, when the bearing to the leg's end has turned by more than kReturnHeading from the
-//   leg's heading at its start with more than kReturnDistance to go (the walk drifted sideways), when the path changed
-//   (a replan), or when a movable body (a ball) is right ahead; not on a staircase, which is walked to its end. Run
-//   (key 1) while the navigation's skill choice says run and the leg has kRunMinLeg left; walk (0) again with
-//   kRunLeaveLeg left.
+//   A leg runs from the robot to the path's next waypoint (with steering, one more than kCornerReach away). Before a
+//   staircase it ends at the stairs' entry on the staircase's middle line, 0.85 m before the first riser where that
+//   can be walked to; the stairs leg that follows is latched in the world (the middle line and the exit 0.3 m past
+//   the last stair cell) until the robot has crossed.
 #pragma once
 
 #include <Eigen/Core>
