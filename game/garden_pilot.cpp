@@ -464,8 +464,8 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
     const bool onStairs = nav_->grid().kind(here.x(), here.y()) == nav::CellKind::Stairs && s0 >= span->from;
     // the leg's end: kStairsExitAfter past the last stair cell on the middle line, measured along the axis
     const double exitAlong = (onMiddle(path.pointAt(span->to)) + kStairsExitAfter * axis - centre).dot(axis);
-    const bool ahead = exitAlong - (p - centre).dot(axis) > kStairsExitDone;
-    if (ahead && (atEntry || onStairs || s0 >= span->from + kStairsEntryReach)) {
+    const bool exitAhead = exitAlong - (p - centre).dot(axis) > kStairsExitDone;
+    if (exitAhead && (atEntry || onStairs || s0 >= span->from + kStairsEntryReach)) {
       latch_ = {true, centre, axis, span->heading, exitAlong};
       return legCues(session, out);  // the latched leg's cues (once: its end is ahead)
     }
