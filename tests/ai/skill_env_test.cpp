@@ -1018,8 +1018,12 @@ TEST(PlayEpisodes, StartWhereTheEntryLeftTheRobotOnItsLevelAndFollowItsKeys) {
   int endedAt = -1;
   for (int s = 1; s <= 300 && endedAt < 0; ++s) {
     env.step(zero, &r);
-    if (s == 48) EXPECT_NEAR(r.observations(robot::kObsCommand, 0), 0.5f, 1e-6f);
-    if (s == 80) EXPECT_EQ(r.observations(robot::kObsCommand, 0), 0.0f);
+    if (s == 48) {
+      EXPECT_NEAR(r.observations(robot::kObsCommand, 0), 0.5f, 1e-6f);
+    }
+    if (s == 80) {
+      EXPECT_EQ(r.observations(robot::kObsCommand, 0), 0.0f);
+    }
     if (r.truncated[0]) endedAt = s;
   }
   EXPECT_EQ(endedAt, 300);
