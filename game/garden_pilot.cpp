@@ -392,35 +392,19 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
     if (hit.hit && engine::isMovableTag(hit.tag)) c.movableAhead = true;
   }
   // walls and bodies ahead of the pelvis and of either side of the body's core (the follower's rays)
-  nav::FollowerParams ray = nav_->params().follower;
-  const double halfWidth = ray.obstacleHalfWidth;
-  ray.obstacleHalfWidth = 0.0;
-  double* const ahead3[] = {&c.rightAhead, &c.centreAhead, &c.leftAhead};
-  for (int k = -1; k <= 1; ++k) nav::obstacleFactor(plane, p + double(k) * halfWidth * left, s.yaw, ray, ahead3[k + 1]);
+  const nav::FollowerParams& ray = nav_->params().follower;
+  c.rightAhead = nav::clearAhead(plane, p - ray.obstacleHalfWidth * left, s.yaw, ray.obstacleClear);
+  c.centreAhead = nav::clearAhead(plane, p, s.yaw, ray.obstacleClear);
+  c.leftAhead = nav::clearAhead(plane, p + ray.obstacleHalfWidth * left, s.yaw, ray.obstacleClear);
   const nav::Path& path = nav_->path();
   if (out.events.replanned) stairsPassed_ = -1;
   if (out.state != nav::NavState::Following || !path.found || path.points.size() < 2) return c;
   c.haveLeg = true;
   const double s0 = out.follow.progress.arc;
-  // the next staircase on the path, and where its leg begins
   // a staircase being crossed (latched at its entry): its leg, by the robot's place along it, whatever the path does
   // (a path replanned on the stairs starts on them, and the walk took over on a deck)
   if (latch_.on) {
-    const Eigen::Vector2d d = p - latch_.centre;
-    const double beyond = latch_.exitAlong - d.dot(latch_.axis);
-    const double across = std::abs(latch_.axis.x() * d.y() - latch_.axis.y() * d.x());
-    if (beyond > kStairsExitDone && across < kStairsLost) {
-      c.stairsLeg = true;
-      c.legRemaining = beyond;
-      // squared up to the axis; on the way, aimed at the middle line a little ahead (steered when the stairs can)
-      c.legHeading = latch_.heading;
-      if (keys_.mode() == GardenKeys::Mode::Go) {
-        const Eigen::Vector2d aim =
-            latch_.centre + (d.dot(latch_.axis) + keys_.params().steerPursuit) * latch_.axis - p;
-        c.legHeading = std::atan2(aim.y(), aim.x());
-      }
-      return c;
-    }
+    if (latchedLeg(p, &c)) return c;
     latch_.on = false;  // passed (or lost): off the stairs skill, and not onto them again (nor back to them)
     for (const nav::StairsSpan& st : path.stairs)
       if (st.to + kStairsExitAfter > s0) {
@@ -428,6 +412,7 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
         break;
       }
   }
+  // the next staircase on the path, and where its leg begins
   const nav::StairsSpan* span = nullptr;
   for (const nav::StairsSpan& st : path.stairs)
     if (st.to + kStairsExitAfter > s0 && st.from != stairsPassed_) {
@@ -467,7 +452,8 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
     const bool exitAhead = exitAlong - (p - centre).dot(axis) > kStairsExitDone;
     if (exitAhead && (atEntry || onStairs || s0 >= span->from + kStairsEntryReach)) {
       latch_ = {true, centre, axis, span->heading, exitAlong};
-      return legCues(session, out);  // the latched leg's cues (once: its end is ahead)
+      if (latchedLeg(p, &c)) return c;  // (its end is ahead; kStairsLost is more than the entry's reach)
+      latch_.on = false;
     }
   }
   // the leg ends at the next waypoint ahead; with steering, a corner is taken from kCornerReach before it
@@ -491,6 +477,22 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
   const Eigen::Vector2d aim = keys_.params().steer && pursuit < end ? path.pointAt(pursuit) - p : to;
   c.legHeading = aim.norm() > 1e-6 ? std::atan2(aim.y(), aim.x()) : s.yaw;
   return c;
+}
+
+bool GardenPilot::latchedLeg(const Eigen::Vector2d& p, LegCues* c) const {
+  const Eigen::Vector2d d = p - latch_.centre;
+  const double beyond = latch_.exitAlong - d.dot(latch_.axis);
+  const double across = std::abs(latch_.axis.x() * d.y() - latch_.axis.y() * d.x());
+  if (beyond <= kStairsExitDone || across >= kStairsLost) return false;
+  c->stairsLeg = true;
+  c->legRemaining = beyond;
+  // squared up to the axis; on the way, aimed at the middle line a little ahead (steered when the stairs can)
+  c->legHeading = latch_.heading;
+  if (keys_.mode() == GardenKeys::Mode::Go) {
+    const Eigen::Vector2d aim = latch_.centre + (d.dot(latch_.axis) + keys_.params().steerPursuit) * latch_.axis - p;
+    c->legHeading = std::atan2(aim.y(), aim.x());
+  }
+  return true;
 }
 
 std::vector<engine::KeyEvent> GardenPilot::decide(int64_t tick, const Session& session) {

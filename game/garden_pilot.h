@@ -211,6 +211,8 @@ class GardenPilot {
     double heading = 0, exitAlong = 0;
   };
   StairsLatch latch_;
+  /// The latched staircase's leg cues for a robot at p; false once it is passed (or left).
+  bool latchedLeg(const Eigen::Vector2d& p, LegCues* c) const;
   /// the staircase (its span's start) the robot has crossed on the current path: not the next one any more
   double stairsPassed_ = -1;
   static constexpr int kYawWindow = 40;  ///< ticks (about one gait cycle)

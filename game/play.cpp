@@ -24,11 +24,14 @@ PlayResult play(const levels::Level& level, const robot::RobotModel& model, cons
   Autopilot autopilot(options.skills ? skillKeys(*options.skills) : SkillKeys{});
   std::unique_ptr<GardenPilot> garden;
   if (options.autopilot && isMapLevel(level)) {
+    // W with A or D steers a skill that has forward_turn
+    auto steers = [&](const char* name) {
+      const robot::Skill* skill = options.skills ? options.skills->byName(name) : nullptr;
+      return skill && skill->def.commands.steerWz > 0;
+    };
     GardenKeyParams keyParams;
-    const robot::Skill* walk = options.skills ? options.skills->byName("walk") : nullptr;
-    keyParams.steer = walk && walk->def.commands.steerWz > 0;  // W with A or D steers the walk (forward_turn)
-    const robot::Skill* stairs = options.skills ? options.skills->byName("stairs") : nullptr;
-    keyParams.steerStairs = stairs && stairs->def.commands.steerWz > 0;
+    keyParams.steer = steers("walk");
+    keyParams.steerStairs = steers("stairs");
     garden =
         std::make_unique<GardenPilot>(session.plane(), options.skills ? skillKeys(*options.skills) : SkillKeys{},
                                       options.seed, options.targets, GardenPilot::gardenNavigatorParams(), keyParams);

@@ -47,28 +47,32 @@ double interlockLimit(const SpeedProfile& p, double wr) {
   return p.vMax + (p.vMin - p.vMax) * (w - p.wFree) / (p.wMax - p.wFree);
 }
 
+double clearAhead(const engine::PlaneWorld& plane, const Eigen::Vector2d& from, double yaw, double length) {
+  const Eigen::Vector2d ahead(std::cos(yaw), std::sin(yaw));
+  const Eigen::Vector2d to = from + length * ahead;
+  Eigen::Vector2d at = from;
+  // a staircase is walked on, not into: look through its boxes (one at a time; a ray starting inside a box does not
+  // hit it)
+  for (int i = 0; i < 32; ++i) {
+    const engine::RayHit hit = plane.rayCast(at, to);
+    if (!hit.hit) break;
+    if (engine::isStairTag(hit.tag)) {
+      at = hit.point + 1e-4 * ahead;
+      if ((to - at).dot(ahead) <= 0) break;
+      continue;
+    }
+    return (hit.point - from).dot(ahead);
+  }
+  return 1e9;
+}
+
 double obstacleFactor(const engine::PlaneWorld& plane, const Eigen::Vector2d& position, double yaw,
                       const FollowerParams& params, double* nearestOut) {
-  const Eigen::Vector2d ahead(std::cos(yaw), std::sin(yaw)), left(-ahead.y(), ahead.x());
+  const Eigen::Vector2d left(-std::sin(yaw), std::cos(yaw));
   double nearest = 1e9;
-  for (const double k : {-1.0, -0.5, 0.0, 0.5, 1.0}) {
-    const Eigen::Vector2d from = position + k * params.obstacleHalfWidth * left;
-    const Eigen::Vector2d to = from + params.obstacleClear * ahead;
-    Eigen::Vector2d at = from;
-    // a staircase is walked on, not into: look through its boxes (one at a time; a ray starting inside a box does
-    // not hit it)
-    for (int i = 0; i < 32; ++i) {
-      const engine::RayHit hit = plane.rayCast(at, to);
-      if (!hit.hit) break;
-      if (engine::isStairTag(hit.tag)) {
-        at = hit.point + 1e-4 * ahead;
-        if ((to - at).dot(ahead) <= 0) break;
-        continue;
-      }
-      nearest = std::min(nearest, (hit.point - from).dot(ahead));
-      break;
-    }
-  }
+  for (const double k : {-1.0, -0.5, 0.0, 0.5, 1.0})
+    nearest =
+        std::min(nearest, clearAhead(plane, position + k * params.obstacleHalfWidth * left, yaw, params.obstacleClear));
   if (nearestOut) *nearestOut = nearest;
   if (nearest >= params.obstacleClear) return 1.0;
   return std::clamp((nearest - params.obstacleStop) / (params.obstacleClear - params.obstacleStop), 0.0, 1.0);

@@ -81,6 +81,10 @@ struct FollowerParams {
 /// The interlock boundary: the largest forward speed allowed while turning at wr.
 double interlockLimit(const SpeedProfile& profile, double wr);
 
+/// How far ahead along `yaw` from `from` the first wall or movable body is within `length` [m] (1e9: none);
+/// staircases are looked through (one of the obstacle factor's rays).
+double clearAhead(const engine::PlaneWorld& plane, const Eigen::Vector2d& from, double yaw, double length);
+
 /// The obstacle factor from the 2D layer at the robot's pose (see FollowerParams). Also gives the nearest hit's
 /// distance ahead of the pelvis [m] (1e9: none) when `nearest` is given.
 double obstacleFactor(const engine::PlaneWorld& plane, const Eigen::Vector2d& position, double yaw,
