@@ -254,17 +254,46 @@ void GardenKeys::goSteering(int64_t tick, const LegCues& c, std::vector<engine::
   const double error = std::remainder(c.legHeading - c.yaw, 2.0 * M_PI);
   const bool atEnd = c.haveLeg && c.legRemaining <= brakeDistance(c.commandVx, p_);
   const bool wall = c.centreAhead < p_.steerWallStop;  // a wall right ahead: the leg went wrong
-  if (!c.haveLeg || c.stairsLeg || c.movableAhead || wall || (atEnd && c.endStops)) {
-    releaseMoves(tick, out);  // a stairs leg begins from a stop, squared up; a ball or a wall is gone round after one
+  // out of a run, W stays down (no steering) until the walk is in control at its own speeds: the walk brakes a run.
+  // With W let go the run's command fell below its range, and a walk handed 1.6 m/s with W up spun round and fell
+  const bool running = skill_ == keys_.run;  // asked for (the runtime hands over when the robot is ready)
+  auto brake = [&] {
+    if (running) skill(tick, keys_.walk, out);
+    hold(tick, 'A', false, out), hold(tick, 'D', false, out);
+    hold(tick, 'W', true, out);
+  };
+  if (c.running != wasRunning_) handover_ = c.running ? -1 : tick, wasRunning_ = c.running;
+  // the walk took over from the run: it settles, and brakes to its own speeds, straight on
+  const bool afterRun = handover_ >= 0 && (tick - handover_ < p_.walkSettleTicks || c.speed > p_.walkTopSpeed);
+  if (handover_ >= 0 && !afterRun) handover_ = -1;
+  if (!running && (c.running || afterRun)) {
+    brake();
+    return;
+  }
+  auto stop = [&] {
+    if (running) return brake();  // stopped once braked
+    releaseMoves(tick, out);
     enter(Mode::Stop);
+  };
+  if (!c.haveLeg || c.stairsLeg || c.movableAhead || wall || (atEnd && c.endStops)) {
+    stop();  // a stairs leg begins from a stop, squared up; a ball or a wall is gone round after one
     return;
   }
   if (std::abs(error) > p_.steerCorner) {
     // a corner too sharp to walk through (the next leg's, from kCornerReach before it), or a leg that went wrong:
     // stop and turn in place (turning before the walk is at rest carried it on by up to 0.7 m: into the river)
-    releaseMoves(tick, out);
-    enter(Mode::Stop);
+    stop();
     return;
+  }
+  if (p_.useRun && keys_.run) {
+    // the run on a long straight, taken over from a walk at speed and squared up to the path; the walk again (W held:
+    // it brakes to its own speeds) before the leg's end
+    const bool steering = held_.holds('A') || held_.holds('D');
+    if (!running && c.runAllowed && c.legRemaining >= p_.runMinLeg && c.speed >= p_.runFromSpeed && !steering &&
+        std::abs(error) <= p_.runHeading)
+      skill(tick, keys_.run, out);
+    else if (running && (c.legRemaining < p_.runLeaveLeg || !c.runAllowed))
+      return brake();
   }
   // the last stretch to a stop (the path's end, a staircase's entry) slowly, W pulsed: it stops where it should;
   // it steers only while W is down (A or D alone would turn it in place)
@@ -286,6 +315,10 @@ void GardenKeys::goSteering(int64_t tick, const LegCues& c, std::vector<engine::
     return;
   }
   // steer under W toward the path ahead (the walk crabs off its yaw; a replanned path bends)
+  if (running && c.legRemaining < p_.runLeaveLeg + p_.runStraightBefore) {  // the run goes straight before the walk
+    hold(tick, 'A', false, out), hold(tick, 'D', false, out);
+    return;
+  }
   steerUnderW(tick, c, steerUntil, out);
 }
 
@@ -379,6 +412,7 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
   c.speed = (s.baseRotation * s.linearVelocity).head<2>().norm();
   c.commandVx = session.command().vx;
   c.commandWz = session.command().wz;
+  c.running = session.activeSkillName() == "run";
   c.backOff = out.state == nav::NavState::BackingOff;
   c.pathChanged = out.events.replanned;
   c.runAllowed = out.command.skill == nav::NavSkill::Run;
@@ -465,7 +499,10 @@ LegCues GardenPilot::legCues(const Session& session, const nav::NavOutput& out) 
       end = path.arc[i];
       break;
     }
-  c.endStops = end >= path.length();
+  // a target with another after it is walked through: the next one is given the tick it is reached, and the leg to
+  // it turns from rest only if its corner is too sharp to steer round
+  const bool moreTargets = random_ || targetIndex_ + 1 < int(fixed_.size());
+  c.endStops = end >= path.length() && !moreTargets;
   const bool toStairs = span && entry <= end;
   if (toStairs) end = entry, c.endStops = true;
   // a leg to a staircase ends on the staircase's middle line, square in front of it

@@ -14,9 +14,10 @@
 //          forward_turn (engine::CommandInput: W with A or D drives and turns together) A or D is held under W to
 //          steer toward the path 1.5 m ahead (a stairs leg: toward the staircase's middle line), and away from a wall
 //          ahead of one side. A walk leg stops (then turns from rest) at a corner sharper than steerCorner, at a wall
-//          or a ball right ahead, and at its end where the path ends or a staircase begins, the last 1.5 m walked
-//          slowly; a stairs leg is walked to its end. Without forward_turn the runtime's heading hold keeps W
-//          straight and a drifting walk stops to turn again (returnHeading)
+//          or a ball right ahead, and at its end before a staircase or at the last target, the last 1.5 m walked
+//          slowly; a target with another after it is walked through. A stairs leg is walked to its end. Without
+//          forward_turn the runtime's heading hold keeps W straight and a drifting walk stops to turn again
+//          (returnHeading)
 //   Back   S held while the navigation backs off a stuck robot
 //
 //   A leg runs from the robot to the path's next waypoint (with steering, one more than kCornerReach away). Before a
@@ -61,6 +62,7 @@ struct LegCues {
   bool endStops = true;                 ///< the leg's end is the path's end or a staircase's entry: stop there
   bool stairsLeg = false;               ///< the leg crosses a staircase (key 2)
   bool runAllowed = false;              ///< the navigation's skill choice is run
+  bool running = false;                 ///< the run is in control (a switch asked for waits for the runtime)
   bool backOff = false;                 ///< the navigation backs off (stuck)
   bool pathChanged = false;             ///< a replan this tick
   bool movableAhead = false;            ///< a movable body (a ball) right in front
@@ -84,8 +86,9 @@ struct GardenKeyParams {
   double returnHeading = 0.1;     ///< kReturnHeading: stop and turn again when this far off the leg's end [rad] ...
   double returnDistance = 1.0;    ///< ... with more than this to go [m]
   double wallStopFactor = 0.1;    ///< a walk leg stops when the obstacle factor falls below this (a wall 0.47 m ahead)
-  /// the run at all: off in the garden, where the run's hand-over back to the walk (key 0, then W let go) fell in
-  /// 2 of 2 runs that used it (seeds 1 and 2, 1 s after the switch); the unit tests check the scheme with it on
+  /// the run at all: off in the garden. The walk falls taking over from it: with the run on the long straights (and
+  /// a run forward_turn of [1.8, 0.3] in a tree copy to steer it), handed back with W held, seeds 1-10 reached 63
+  /// targets with 4 walk falls against 85 and 1 without it (docs/navigation.md); the unit tests check it on
   bool useRun = false;
   /// steering under W (the walk's forward_turn: W with A or D): a walk leg starts within steerStartTolerance of its
   /// heading, and on the way A or D is held under W while the leg's end is more than steerOn off the heading (and
@@ -107,7 +110,12 @@ struct GardenKeyParams {
   double approachSteerUntil = 0.4;    ///< ... and steered (under W) until this close to its end [m]
   double runMinLeg = 6.0;             ///< run only with this much leg left [m] ...
   double runLeaveLeg = 3.5;           ///< ... and walk again with this much left
-  double runFromSpeed = 0.9;          ///< ... and from a walk at least this fast [m/s]
+  double runFromSpeed = 0.9;          ///< ... and from a walk at least this fast [m/s] ...
+  double runHeading = 0.1;            ///< ... and (steering) with the path ahead within this of the heading [rad]
+  double runStraightBefore = 2.0;     ///< (steering) the run is not steered in its last this much before the walk [m]
+  double walkTopSpeed = 1.3;          ///< (steering) out of a run, W is held, straight on, until the walk is in control
+                                      ///< and this slow [m/s] ...
+  int walkSettleTicks = 100;          ///< ... and for this long after the walk took over [ticks]
 };
 
 /// The yaw error [rad] at which a turn key held at yaw rate `wz` should be let go to stop on the heading.
@@ -144,8 +152,10 @@ class GardenKeys {
   char skill_ = 0;          // the skill key pressed last
   int64_t restSince_ = -1;  // the tick the robot was first seen at rest in this Stop / between turn pulses
   int tries_ = 0;
-  bool goStairs_ = false;  // the Go under way is a stairs leg
-  double goHeading_ = 0;   // the leg's heading when it started
+  bool goStairs_ = false;    // the Go under way is a stairs leg
+  double goHeading_ = 0;     // the leg's heading when it started
+  bool wasRunning_ = false;  // the run was in control last tick
+  int64_t handover_ = -1;    // the tick the walk took over from the run (-1: not since)
 };
 
 /// What the pilot did in one tick, for telemetry.

@@ -246,6 +246,36 @@ TEST(GardenKeys, ARunOnALongLegAndTheWalkAgainBeforeItsEnd) {
   EXPECT_EQ(g.mode(), GardenKeys::Mode::Go);
 }
 
+TEST(GardenKeys, WithSteeringARunHandsBackToTheWalkWithWHeldUntilTheWalkHasSettled) {
+  game::GardenKeyParams p;
+  p.steer = true, p.useRun = true;
+  GardenKeys g(keys(), p);
+  LegCues c = restingLeg(0.0, 0.0);
+  c.legRemaining = 10.0, c.endStops = false;
+  int64_t tick = 0;
+  untilTurn(&g, c, &tick);
+  while (g.mode() != GardenKeys::Mode::Go && tick < 200) g.decide(++tick, c);
+  ASSERT_EQ(g.mode(), GardenKeys::Mode::Go);
+  c.commandVx = 1.2, c.speed = 1.0, c.runAllowed = true;
+  c.yaw = -0.12;  // the path 0.12 rad off the heading (over runHeading, 0.1): steered first, no run
+  EXPECT_EQ(text(g.decide(++tick, c)), "+A");
+  c.yaw = 0.0;  // squared up: A let go, then the run
+  EXPECT_EQ(text(g.decide(++tick, c)), "-A");
+  EXPECT_EQ(text(g.decide(++tick, c)), "*1");
+  c.running = true, c.speed = 1.9;
+  c.legRemaining = 3.4;  // under runLeaveLeg: the walk asked for, W kept down
+  EXPECT_EQ(text(g.decide(++tick, c)), "*0");
+  c.yaw = 0.6;  // a corner beyond steerCorner while the run is still in control: no stop, W held, no steering
+  EXPECT_EQ(text(g.decide(++tick, c)), "");
+  c.running = false, c.speed = 1.5;  // the walk has taken over, still fast
+  EXPECT_EQ(text(g.decide(++tick, c)), "");
+  c.speed = 1.0;
+  for (int i = 1; i < p.walkSettleTicks; ++i) ASSERT_EQ(text(g.decide(++tick, c)), "") << i;
+  EXPECT_EQ(g.mode(), GardenKeys::Mode::Go);
+  EXPECT_EQ(text(g.decide(++tick, c)), "-W");  // settled: the corner is turned from rest
+  EXPECT_EQ(g.mode(), GardenKeys::Mode::Stop);
+}
+
 TEST(GardenKeys, AReplanABallOrAWallAheadStopsAWalkButNotAStairsLeg) {
   LegCues c;
   int64_t tick = 0;
