@@ -8,6 +8,7 @@
 
 #include "ai/ppo/checkpoint.h"
 #include "ai/ppo/ppo.h"
+#include "ai/train/train_multi.h"
 #include "ai/train/train_skill.h"
 #include "robot/skill_runtime.h"
 #include "robot/skill_tree.h"
@@ -47,6 +48,8 @@ struct EvalOptions {
   std::string samplePolicy;  ///< policy file: the card with actions drawn from its Gaussian, as training acts
   std::string only;          ///< switches: only the switches into or out of this skill
   double steer = -1;         ///< >= 0: a stairs or crawl card's steer in place of the tree file's (0: unsteered)
+  std::string multitask;     ///< a multi-task run folder: the card of its one network, told the skill by its one-hot
+  int rewards = 0;  ///< > 0: instead of the card, the rewards in the skill's training episodes, this many rollouts
 };
 
 /// `treelearn entries record` options.
@@ -97,6 +100,8 @@ int runSwitchEval(const SwitchEvalOptions& options);
 robot::SkillSet loadSkills(const robot::RobotModel& model);
 
 int runTrain(const TrainOptions& options);
+/// `treelearn multitask`: one network on several skills at once (ai::trainMultiTask).
+int runMultiTask(const ai::TrainMultiOptions& options);
 /// `treelearn tree`: the skill tree with parents, keys, model hashes and each shipped model's recorded card.
 int runTree();
 /// Where `treelearn eval SKILL` keeps the shipped model's card: assets/skills/SKILL.card.txt.

@@ -590,6 +590,27 @@ int main(int argc, char** argv) {
       "--export-only", train.exportOnly,
       "Only export the run's policy (--export-from) to the run folder's SKILL.onnx and SKILL.policy.bin (no training)");
 
+  ai::TrainMultiOptions multitask;
+  CLI::App* multitaskCmd = app.add_subcommand(
+      "multitask",
+      "Train one network on several skills at once (the paper's multi-task baseline): each skill's own training "
+      "episodes, rewards and terminations from the tree file, the skill told by a one-hot after its observation; "
+      "writes RUN/multitask.policy.bin, RUN/skills.txt, RUN/skills.csv (each skill's episodes per iteration) and "
+      "log.csv; its cards: eval SKILL --multitask RUN");
+  multitaskCmd->add_option("--skills", multitask.skills,
+                           "Skills, in one-hot order (default: the paper's six, walk run squat jump crawl one_leg)");
+  multitaskCmd->add_option("--steps", multitask.steps, "Environment steps in all, every skill's together (default 1e7)")
+      ->check(CLI::Range(int64_t(1), int64_t(1) << 40));
+  multitaskCmd->add_option("--envs-per-skill", multitask.envsPerSkill, "Environments per skill (default 4)")
+      ->check(CLI::Range(1, 256));
+  multitaskCmd->add_option("--threads", multitask.threads, "Threads (default 2)")->check(CLI::Range(1, 64));
+  multitaskCmd->add_option("--seed", multitask.seed, "Seed of the fresh weights and the episodes (default 1)")
+      ->check(seedNumber);
+  multitaskCmd->add_option("--run-dir", multitask.runDir, "Run folder (default runs/multitask)");
+  multitaskCmd->add_flag("--resume", multitask.resume, "Continue from RUN/checkpoint.bin");
+  multitaskCmd->add_option("--models-dir", multitask.modelsDir,
+                           "Folder the handover episodes' drivers are read from (default: the tree file's folder)");
+
   apps::ShipOptions ship;
   CLI::App* shipCmd = app.add_subcommand(
       "ship",
@@ -632,6 +653,17 @@ int main(int argc, char** argv) {
                    "Stairs or crawl card: keep the robot on course with this gain in place of the card's steer (0: "
                    "unsteered, the robot left to the skill)")
       ->check(CLI::Range(0.0, 100.0));
+  evalCmd->add_option(
+      "--multitask", eval.multitask,
+      "Run the card on a multi-task run's network (the folder `multitask` wrote), told this skill by its "
+      "one-hot");
+  evalCmd
+      ->add_option("--rewards", eval.rewards,
+                   "Instead of the card: the model's mean episode return and reward per step in the skill's own "
+                   "training episodes (its rewards, commands, pushes and starts), this many rollouts of one episode's "
+                   "time limit over 20 environments, deterministic actions (the comparison's measure; with --model or "
+                   "--multitask)")
+      ->check(CLI::Range(1, 1000));
   evalCmd->add_option("--only", eval.only,
                       "Switches: only the switches into or out of this skill (the same trials as in the full run)");
 
@@ -658,13 +690,14 @@ int main(int argc, char** argv) {
       throw engine::Error(
           "--export-from picks what --export-only exports: give --export-only too (no training runs then)");
     if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
+    if (*multitaskCmd) return apps::runMultiTask(multitask);
     if (*shipCmd) return apps::runShip(ship);
     if (*evalCmd && eval.skill != "switches" && !eval.only.empty())
       throw engine::Error("--only picks the switches of one skill: it goes with eval switches");
     if (*evalCmd && eval.skill == "switches" &&
-        (eval.priorOnly || eval.sweep || !eval.model.empty() || !eval.samplePolicy.empty()))
+        (eval.priorOnly || eval.sweep || !eval.model.empty() || !eval.samplePolicy.empty() || !eval.multitask.empty()))
       throw engine::Error(
-          "eval switches runs the shipped models: it takes no --prior-only, --sweep, --model or --sample");
+          "eval switches runs the shipped models: it takes no --prior-only, --sweep, --model, --sample or --multitask");
     if (*evalCmd && eval.skill == "switches") {
       apps::SwitchEvalOptions sw;
       if (eval.episodes > 0) sw.trials = eval.episodes;

@@ -9,6 +9,7 @@
 #include <memory>
 #include <random>
 
+#include "ai/env/multi_task_env.h"
 #include "ai/eval/skill_card.h"
 #include "ai/onnx/policy_onnx.h"
 #include "ai/ppo/checkpoint.h"
@@ -73,6 +74,14 @@ int runTrain(const TrainOptions& o) {
   return 0;
 }
 
+int runMultiTask(const ai::TrainMultiOptions& o) {
+  const ai::TrainMultiResult r = ai::trainMultiTask(o, printLine, [](ai::Trainer* t) {
+    gTrainer = t;
+    std::signal(SIGINT, t ? onSigint : SIG_DFL);
+  });
+  return r.stopped ? 130 : 0;
+}
+
 int runExport(const TrainOptions& o) {
   const ai::SkillContext l = ai::loadSkillContext(o.skill);
   ai::exportFromRun(l, o.runDir.empty() ? "runs/" + o.skill : o.runDir, o.exportFrom, o.seed, printLine);
@@ -90,14 +99,25 @@ int runEval(const EvalOptions& o) {
   if (!o.samplePolicy.empty() && (o.priorOnly || o.sweep || !o.model.empty()))
     throw engine::Error(
         "eval --sample draws the card's actions from a policy file: it takes no --prior-only, --model or --sweep");
-  const std::string onnxPath = o.priorOnly               ? "none (the prior alone)"
-                               : !o.samplePolicy.empty() ? o.samplePolicy + " (actions drawn from its Gaussian)"
-                               : o.model.empty()         ? l.tree.directory + "/" + l.skill->model
-                                                         : o.model;
+  if (!o.multitask.empty() && (o.priorOnly || o.sweep || !o.model.empty() || !o.samplePolicy.empty()))
+    throw engine::Error(
+        "eval --multitask runs the card on a multi-task run's network: it takes no --prior-only, --sweep, --model or "
+        "--sample");
+  const std::string onnxPath =
+      o.priorOnly            ? "none (the prior alone)"
+      : !o.multitask.empty() ? o.multitask + "/multitask.policy.bin (the multi-task network, one-hot '" + o.skill + "')"
+      : !o.samplePolicy.empty() ? o.samplePolicy + " (actions drawn from its Gaussian)"
+      : o.model.empty()         ? l.tree.directory + "/" + l.skill->model
+                                : o.model;
   std::unique_ptr<ai::LoadedPolicy> policy;
   std::unique_ptr<ai::PolicyState> sampled;  // --sample: mean and log-std, with a seeded noise stream
   std::mt19937_64 noise(o.seed * 0x9E3779B97F4A7C15ull + 17);
-  if (!o.samplePolicy.empty()) {
+  std::unique_ptr<ai::MultiTaskPolicy> multi;  // --multitask: the run's network and this skill's one-hot
+  int multiIndex = -1;
+  if (!o.multitask.empty()) {
+    multi = std::make_unique<ai::MultiTaskPolicy>(ai::loadMultiTaskPolicy(o.multitask));
+    multiIndex = multi->indexOf(o.skill, o.multitask);
+  } else if (!o.samplePolicy.empty()) {
     sampled = std::make_unique<ai::PolicyState>(ai::loadPolicyState(o.samplePolicy));
     if (sampled->actor.inputSize() != robot::kObservationSize || sampled->actor.outputSize() != robot::kActionSize)
       throw engine::Error(o.samplePolicy + ": network sizes do not match the shared layout");
@@ -105,7 +125,9 @@ int runEval(const EvalOptions& o) {
     policy = ai::loadSkillModel(l, onnxPath);
   }
   const ai::PolicyFn act = [&](const Eigen::MatrixXf& obs, Eigen::MatrixXf* a) {
-    if (sampled) {  // called once a tick for the whole batch, on one thread: the draws are in a fixed order
+    if (multi) {
+      ai::actDeterministic(multi->policy, ai::MultiTaskEnv::withTask(obs, multiIndex, int(multi->skills.size())), a);
+    } else if (sampled) {  // called once a tick for the whole batch, on one thread: the draws are in a fixed order
       Eigen::MatrixXf mean;
       ai::actDeterministic(*sampled, obs, &mean);
       ai::sampleGaussian(&noise, mean, sampled->logStd, a);
@@ -115,6 +137,22 @@ int runEval(const EvalOptions& o) {
       *a = Eigen::MatrixXf::Zero(robot::kActionSize, obs.cols());
     }
   };
+  if (o.rewards > 0) {
+    if (o.priorOnly || o.sweep)
+      throw engine::Error("eval --rewards measures a model: it takes no --prior-only or --sweep");
+    const int envs = 20;
+    const ai::RewardFigures f =
+        ai::measureRewards(l, act, l.tree.directory, envs, o.rewards, o.seed, o.threads, [](const std::string&) {});
+    std::printf(
+        "%s rewards in its training episodes: %d rollouts x %d environments, %lld steps, deterministic actions, seed "
+        "%llu (model %s)\n",
+        o.skill.c_str(), o.rewards, envs, (long long)f.steps, (unsigned long long)o.seed, onnxPath.c_str());
+    std::printf("  episodes ended       %d (%.0f %% fell)\n", f.episodes, 100.0 * f.fellShare);
+    std::printf("  mean episode return  %.2f\n", f.meanReturn);
+    std::printf("  mean episode length  %.1f steps\n", f.meanLength);
+    std::printf("  reward per step      %.4f\n", f.rewardPerStep);
+    return 0;
+  }
   if (o.sweep) {
     std::vector<robot::SkillCommand> commands;
     for (double vx : {-0.6, -0.3, 0.3, 0.6, 0.9, 1.2, 1.5, 2.0}) commands.push_back({vx, 0, 0});
@@ -137,10 +175,10 @@ int runEval(const EvalOptions& o) {
   ai::CardRun run{def, o.seed, o.threads};
   if (o.episodes > 0) run.card.episodes = o.episodes;
   if (o.steer >= 0) {
-    if (ai::StairsCard* c = run.card.as<ai::StairsCard>())
-      c->steer = o.steer;
-    else if (ai::CrawlCard* c = run.card.as<ai::CrawlCard>())
-      c->steer = o.steer;
+    if (ai::StairsCard* stairs = run.card.as<ai::StairsCard>())
+      stairs->steer = o.steer;
+    else if (ai::CrawlCard* crawl = run.card.as<ai::CrawlCard>())
+      crawl->steer = o.steer;
     else
       throw engine::Error("eval --steer: skill '" + o.skill + "' has neither a stairs nor a crawl card");
   }

@@ -52,43 +52,12 @@ void say(const Log& log, const char* fmt, ...) {
 
 }  // namespace
 
-TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, const Log& log,
-                            const std::function<void(Trainer*)>& onTrainer) {
+SkillEnvOptions skillEnvOptions(const SkillContext& l, const std::string& modelsDir, int envs, int threads,
+                                const Log& log) {
   const SkillSpec& skill = *l.skill;
-  const std::string treeText = engine::readFile(l.tree.path);
-  // [ppo], then the skill's own [skill.NAME.ppo] overrides (not inherited by its branches)
-  PpoConfig config = parsePpoConfig(treeText, l.tree.path, "ppo");
-  config = parsePpoConfig(treeText, l.tree.path, "skill." + skill.name + ".ppo", config);
-  // a branch from its parent's weights starts at [ppo] branch_learning_rate, so that its first updates adapt the
-  // inherited policy rather than overwrite it (a resumed branch run keeps the config it began with)
-  const bool fromParent = !skill.parent.empty() && o.initFrom.empty();
-  if (!std::isnan(o.learningRate)) {
-    if (!(o.learningRate > 0 && o.learningRate < 1)) throw engine::Error("--learning-rate must be in (0, 1)");
-    config.learningRate = o.learningRate;  // decays linearly to the config's final rate, as usual
-  } else if (fromParent) {
-    config.learningRate = config.branchLearningRate;
-  }
-  if (o.zeroOutput && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
-    throw engine::Error(
-        "--zero-output is a branch's initialisation from its parent: not with --resume, --init-from or for the root "
-        "skill");
-  if (!std::isnan(o.initLogStd) && (o.resume || (o.initFrom.empty() && skill.parent.empty())))
-    throw engine::Error(
-        "--init-log-std sets the starting noise of a branch (from its parent) or of a fine-tune (--init-from): "
-        "not with --resume or for the root skill trained afresh");
-  const int64_t steps = o.steps > 0 ? o.steps : skill.trainingSteps;
-  const int envs = o.envs > 0 ? o.envs : skill.trainingEnvs;
-  const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
-  // the other skills' models (the parent's weights, handover and card drivers) are read from modelsDir; the
-  // exported model goes into the run folder, never into the shipped models (`treelearn ship` installs it)
-  const std::string modelsDir = o.modelsDir.empty() ? l.tree.directory : o.modelsDir;
-  if (config.bufferSize % envs != 0)
-    throw engine::Error("--envs " + std::to_string(envs) + " must divide the PPO buffer size " +
-                        std::to_string(config.bufferSize));
-
   SkillEnvOptions envOptions;
   envOptions.numEnvs = envs;
-  envOptions.threads = o.threads;
+  envOptions.threads = threads;
   std::shared_ptr<LoadedPolicy> handoverPolicy;
   if (skill.handover > 0) {  // episodes that start under the parent's (or handover_from's) shipped model
     const SkillSpec* parent = l.tree.find(skill.handoverFrom.empty() ? skill.parent : skill.handoverFrom);
@@ -137,6 +106,44 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
         100 * skill.handoverBack, child->name.c_str(), path.c_str(), skill.handoverBackSeconds.lo,
         skill.handoverBackSeconds.hi, skill.name.c_str());
   }
+  return envOptions;
+}
+
+TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, const Log& log,
+                            const std::function<void(Trainer*)>& onTrainer) {
+  const SkillSpec& skill = *l.skill;
+  const std::string treeText = engine::readFile(l.tree.path);
+  // [ppo], then the skill's own [skill.NAME.ppo] overrides (not inherited by its branches)
+  PpoConfig config = parsePpoConfig(treeText, l.tree.path, "ppo");
+  config = parsePpoConfig(treeText, l.tree.path, "skill." + skill.name + ".ppo", config);
+  // a branch from its parent's weights starts at [ppo] branch_learning_rate, so that its first updates adapt the
+  // inherited policy rather than overwrite it (a resumed branch run keeps the config it began with)
+  const bool fromParent = !skill.parent.empty() && o.initFrom.empty();
+  if (!std::isnan(o.learningRate)) {
+    if (!(o.learningRate > 0 && o.learningRate < 1)) throw engine::Error("--learning-rate must be in (0, 1)");
+    config.learningRate = o.learningRate;  // decays linearly to the config's final rate, as usual
+  } else if (fromParent) {
+    config.learningRate = config.branchLearningRate;
+  }
+  if (o.zeroOutput && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
+    throw engine::Error(
+        "--zero-output is a branch's initialisation from its parent: not with --resume, --init-from or for the root "
+        "skill");
+  if (!std::isnan(o.initLogStd) && (o.resume || (o.initFrom.empty() && skill.parent.empty())))
+    throw engine::Error(
+        "--init-log-std sets the starting noise of a branch (from its parent) or of a fine-tune (--init-from): "
+        "not with --resume or for the root skill trained afresh");
+  const int64_t steps = o.steps > 0 ? o.steps : skill.trainingSteps;
+  const int envs = o.envs > 0 ? o.envs : skill.trainingEnvs;
+  const std::string runDir = o.runDir.empty() ? "runs/" + skill.name : o.runDir;
+  // the other skills' models (the parent's weights, handover and card drivers) are read from modelsDir; the
+  // exported model goes into the run folder, never into the shipped models (`treelearn ship` installs it)
+  const std::string modelsDir = o.modelsDir.empty() ? l.tree.directory : o.modelsDir;
+  if (config.bufferSize % envs != 0)
+    throw engine::Error("--envs " + std::to_string(envs) + " must divide the PPO buffer size " +
+                        std::to_string(config.bufferSize));
+
+  const SkillEnvOptions envOptions = skillEnvOptions(l, modelsDir, envs, o.threads, log);
   SkillEnv env(l.model, skill, l.tree.path, envOptions);
   TrainerOptions options;
   options.runDir = runDir;

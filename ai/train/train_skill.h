@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+#include "ai/env/skill_env.h"
 #include "ai/eval/skill_card.h"
 #include "ai/ppo/checkpoint.h"
 #include "ai/ppo/trainer.h"
@@ -48,6 +49,12 @@ struct TrainSkillResult {
   int64_t steps = 0;                    ///< the steps it was asked to reach
   bool stopped = false;                 ///< stopped on request before its steps: checkpointed, nothing exported
 };
+
+/// The skill's training environment options: its handover episodes' drivers (the parent's or handover_from's
+/// shipped model and the skills routed through after it, a child's for handover_back), read from modelsDir; says in
+/// `log` what its episodes start from. engine::Error when a driver has no model yet.
+SkillEnvOptions skillEnvOptions(const SkillContext& l, const std::string& modelsDir, int envs, int threads,
+                                const Log& log);
 
 /// Trains the skill and exports its best-by-evaluation policy (else the final one) into the run folder.
 /// `onTrainer` sees the trainer once it exists and nullptr when training ends (apps/ stops it on Ctrl-C).
