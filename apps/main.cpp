@@ -608,6 +608,10 @@ int main(int argc, char** argv) {
       ->check(seedNumber);
   multitaskCmd->add_option("--run-dir", multitask.runDir, "Run folder (default runs/multitask)");
   multitaskCmd->add_flag("--resume", multitask.resume, "Continue from RUN/checkpoint.bin");
+  multitaskCmd->add_flag(
+      "--adaptive-rate", [&](int64_t) { multitask.linearRate = false; },
+      "The tree file's KL-adaptive learning rate instead of the paper's linear schedule (Table 2: the paper's "
+      "baseline's and the tree's walk's from scratch)");
   multitaskCmd->add_option("--models-dir", multitask.modelsDir,
                            "Folder the handover episodes' drivers are read from (default: the tree file's folder)");
 

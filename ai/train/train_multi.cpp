@@ -71,6 +71,9 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
   const TrainingTree& tree = contexts.front()->tree;
   const std::string modelsDir = o.modelsDir.empty() ? tree.directory : o.modelsDir;
   PpoConfig config = parsePpoConfig(engine::readFile(tree.path), tree.path, "ppo");
+  // from fresh weights the paper's linear schedule (Table 2: 3e-4 decaying), as the paper's baseline and the tree's
+  // walk from scratch were trained; the tree file's adaptive rate is for branches and fine-tunes (--adaptive-rate)
+  if (o.linearRate) config.adaptiveLearningRate = false;
   // every environment steps as often per iteration as in a skill's own run (the tree's buffer over a skill's envs)
   const int stepsPerEnv = rolloutSteps(tree, config);
   const int envs = o.envsPerSkill * int(o.skills.size());

@@ -2,8 +2,9 @@
 // several skills at once (ai::MultiTaskEnv over each skill's own training environment, as `train SKILL` builds it:
 // its prior, commands, rewards, terminations, terrain, randomisation and handover episodes from the tree file). The
 // network sees the skill's observation and a one-hot of its index in `skills` (docs/comparison.md). PPO is the
-// tree's [ppo] table (Table 2) with the tree's networks; each iteration every environment steps as many times as a
-// skill's own training does (bufferSize / the skill's envs), so the buffer is that times all the environments.
+// tree's [ppo] table with the tree's networks and the paper's linear learning-rate schedule (Table 2, as the tree's
+// walk trained from scratch); each iteration every environment steps as many times as in a skill's own run (the
+// tree's buffer over the root's envs: 1024), so the buffer is that times all the environments.
 #pragma once
 
 #include <cstdint>
@@ -27,6 +28,8 @@ struct TrainMultiOptions {
   uint64_t seed = 1;
   std::string runDir = "runs/multitask";
   bool resume = false;
+  /// the paper's linear learning-rate schedule (Table 2), not the tree file's adaptive one (see train_multi.cpp)
+  bool linearRate = true;
   /// where the handover episodes' drivers are read from (default: the tree file's folder)
   std::string modelsDir;
 };
