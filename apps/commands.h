@@ -100,6 +100,19 @@ int runSwitchEval(const SwitchEvalOptions& options);
 robot::SkillSet loadSkills(const robot::RobotModel& model);
 
 int runTrain(const TrainOptions& options);
+/// `treelearn experiment compare` options (apps/experiment.cpp).
+struct ExperimentOptions {
+  std::string out = "runs/compare";
+  double stepsScale = 1.0;  ///< 1: the paper's 10^7 steps per skill
+  int seeds = 1;
+  int threads = 2;
+  int rewardEnvs = 20, rewardRollouts = 2;  ///< the rewards measure (ai::measureRewards)
+  int cardEpisodes = 0;                     ///< 0: each card's own count
+};
+/// Trains the arms that are not done yet (resuming the ones begun) and measures every final policy into
+/// OUT/results.csv.
+int runExperimentCompare(const ExperimentOptions& options);
+
 /// `treelearn multitask`: one network on several skills at once (ai::trainMultiTask).
 int runMultiTask(const ai::TrainMultiOptions& options);
 /// `treelearn tree`: the skill tree with parents, keys, model hashes and each shipped model's recorded card.

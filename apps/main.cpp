@@ -615,6 +615,31 @@ int main(int argc, char** argv) {
   multitaskCmd->add_option("--models-dir", multitask.modelsDir,
                            "Folder the handover episodes' drivers are read from (default: the tree file's folder)");
 
+  apps::ExperimentOptions experiment;
+  CLI::App* experimentCmd = app.add_subcommand("experiment", "Experiments that train and measure several runs");
+  experimentCmd->require_subcommand(1);
+  CLI::App* compareCmd = experimentCmd->add_subcommand(
+      "compare",
+      "The paper's comparison (docs/comparison.md): the tree arm (each of walk, run, squat, jump, crawl, one_leg "
+      "from its parent's shipped weights, the walk from scratch) and one multi-task network from scratch at the "
+      "same steps in all and at the tree's total; each final policy's rewards in its skill's training episodes and "
+      "its card into OUT/results.csv. Given again, it goes on where it stopped");
+  compareCmd->add_option("--out", experiment.out, "Output folder (default runs/compare)");
+  compareCmd
+      ->add_option("--steps-scale", experiment.stepsScale,
+                   "Budget as a share of the paper's 10^7 steps per skill (default 1; 0.001 for a smoke run)")
+      ->check(finite & CLI::Range(1e-6, 100.0));
+  compareCmd->add_option("--seeds", experiment.seeds, "Seeds 1..N of every arm (default 1)")->check(CLI::Range(1, 20));
+  compareCmd->add_option("--threads", experiment.threads, "Threads (default 2)")->check(CLI::Range(1, 64));
+  compareCmd->add_option("--reward-envs", experiment.rewardEnvs, "Environments of the rewards measure (default 20)")
+      ->check(CLI::Range(1, 256));
+  compareCmd
+      ->add_option("--reward-rollouts", experiment.rewardRollouts,
+                   "Rollouts of one episode's time limit in the rewards measure (default 2)")
+      ->check(CLI::Range(1, 100));
+  compareCmd->add_option("--card-episodes", experiment.cardEpisodes, "Episodes of each card (default: the card's own)")
+      ->check(CLI::Range(1, 10000));
+
   apps::ShipOptions ship;
   CLI::App* shipCmd = app.add_subcommand(
       "ship",
@@ -695,6 +720,7 @@ int main(int argc, char** argv) {
           "--export-from picks what --export-only exports: give --export-only too (no training runs then)");
     if (*trainCmd) return train.exportOnly ? apps::runExport(train) : apps::runTrain(train);
     if (*multitaskCmd) return apps::runMultiTask(multitask);
+    if (*compareCmd) return apps::runExperimentCompare(experiment);
     if (*shipCmd) return apps::runShip(ship);
     if (*evalCmd && eval.skill != "switches" && !eval.only.empty())
       throw engine::Error("--only picks the switches of one skill: it goes with eval switches");

@@ -125,6 +125,7 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   } else if (fromParent) {
     config.learningRate = config.branchLearningRate;
   }
+  if (o.linearRate) config.adaptiveLearningRate = false;
   if (o.zeroOutput && (o.resume || !o.initFrom.empty() || skill.parent.empty()))
     throw engine::Error(
         "--zero-output is a branch's initialisation from its parent: not with --resume, --init-from or for the root "

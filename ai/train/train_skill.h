@@ -37,6 +37,7 @@ struct TrainSkillOptions {
   bool zeroOutput = false;  ///< branch init: the actor's output layer starts at zero (the branch begins as its prior)
   std::string initFrom;     ///< start from this policy file (PolicyState) instead of fresh weights or the parent
   double learningRate = std::nan("");  ///< override of the [ppo] initial learning rate (fine-tuning)
+  bool linearRate = false;  ///< the paper's linear learning-rate schedule instead of a KL-adaptive [ppo] (from scratch)
   /// where the other skills' models are read from (the parent's policy, handover and card drivers; default: the
   /// tree file's folder). The run's own model is written into runDir, never here.
   std::string modelsDir;
