@@ -1,7 +1,7 @@
 // experiment.cpp — `treelearn experiment compare`: the paper's §4 comparison, resumably (docs/comparison.md). The
 // tree arm trains each of the six skills from its parent's shipped weights (the walk from scratch) with `train`'s
 // defaults; the multi-task arm trains one network on all six from scratch at the paper's budget and at the tree's
-// total. Every run goes on from its checkpoint when the command is given again, and a finished run is not run
+// total, and from the walk's shipped weights at the paper's budget. Every run goes on from its checkpoint when the command is given again, and a finished run is not run
 // again; then every final policy is measured the same way (its rewards in the skill's own training episodes and its
 // report card) into OUT/results.csv, a row per arm, seed and skill, rows already there kept.
 #include <cmath>
@@ -29,6 +29,12 @@ namespace fs = std::filesystem;
 
 constexpr const char* kResultsHeader =
     "arm,seed,skill,env_steps,episodes,mean_episode_return,reward_per_step,fell_share,card_score,card_pass\n";
+
+// the multi-task arms: from scratch at 1x and 6x the paper's steps in all, and from the walk's weights at 1x
+const std::vector<std::string>& multiTaskArms() {
+  static const std::vector<std::string> arms = {"multitask1x", "multitask6x", "multitaskwalk"};
+  return arms;
+}
 
 void printLine(const std::string& line) {
   std::fputs(line.c_str(), stdout);
@@ -97,22 +103,27 @@ int runExperimentCompare(const ExperimentOptions& o) {
       std::printf("tree arm, %s, seed %d: %s\n", skill.c_str(), seed, t.resume ? "resumed" : "started");
       if (ai::trainSkill(l, t, printLine).stopped) return 130;
     }
-    // the multi-task arm, at the paper's budget (every skill's steps together) and at the tree arm's total
-    for (const int times : {1, int(skills.size())}) {
+    // the multi-task arm, from scratch at the paper's budget (every skill's steps together) and at the tree arm's
+    // total, and from the walk's shipped weights at the paper's budget (inheritance without isolation)
+    for (const std::string& arm : multiTaskArms()) {
+      const int times = arm == "multitask6x" ? int(skills.size()) : 1;
       ai::TrainMultiOptions m;
       m.steps = budget * times;
       m.seed = uint64_t(seed);
       m.threads = o.threads;
-      m.runDir = o.out + "/multitask" + std::to_string(times) + "x/" + seedDir;
+      m.runDir = o.out + "/" + arm + "/" + seedDir;
+      if (arm == "multitaskwalk") m.initFrom = engine::projectFile("assets/skills/walk.policy.bin");
       if (fs::exists(m.runDir + "/multitask.policy.bin")) {
-        std::printf("multi-task arm x%d, seed %d: done (%s)\n", times, seed, m.runDir.c_str());
+        std::printf("%s arm, seed %d: done (%s)\n", arm.c_str(), seed, m.runDir.c_str());
         continue;
       }
       m.resume = fs::exists(m.runDir + "/checkpoint.bin");
       if (ai::trainMultiTask(m, printLine).stopped) return 130;
     }
     // the measures, the same for every arm
-    for (const std::string& arm : {std::string("tree"), std::string("multitask1x"), std::string("multitask6x")}) {
+    std::vector<std::string> arms = {"tree"};
+    for (const std::string& arm : multiTaskArms()) arms.push_back(arm);
+    for (const std::string& arm : arms) {
       std::unique_ptr<ai::MultiTaskPolicy> multi;
       if (arm != "tree")
         multi = std::make_unique<ai::MultiTaskPolicy>(ai::loadMultiTaskPolicy(o.out + "/" + arm + "/" + seedDir));
@@ -125,7 +136,7 @@ int runExperimentCompare(const ExperimentOptions& o) {
         int64_t steps = budget;
         if (multi) {
           index = multi->indexOf(skill, o.out + "/" + arm + "/" + seedDir);
-          steps = arm == "multitask1x" ? budget / int64_t(skills.size()) : budget;
+          steps = arm == "multitask6x" ? budget : budget / int64_t(skills.size());
         } else {
           model = ai::loadSkillModel(l, ai::exportedModelPath(o.out + "/tree/" + seedDir + "/" + skill, *l.skill));
         }

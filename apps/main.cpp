@@ -612,6 +612,10 @@ int main(int argc, char** argv) {
       "--adaptive-rate", [&](int64_t) { multitask.linearRate = false; },
       "The tree file's KL-adaptive learning rate instead of the paper's linear schedule (Table 2: the paper's "
       "baseline's and the tree's walk's from scratch)");
+  multitaskCmd->add_option("--init-from", multitask.initFrom,
+                           "Start from this skill's policy file (e.g. assets/skills/walk.policy.bin: inheritance "
+                           "without isolation), the one-hot's inputs at zero weight, at [ppo] branch_learning_rate "
+                           "with the tree's adaptive rate, instead of fresh weights");
   multitaskCmd->add_option("--models-dir", multitask.modelsDir,
                            "Folder the handover episodes' drivers are read from (default: the tree file's folder)");
 
@@ -622,8 +626,9 @@ int main(int argc, char** argv) {
       "compare",
       "The paper's comparison (docs/comparison.md): the tree arm (each of walk, run, squat, jump, crawl, one_leg "
       "from its parent's shipped weights, the walk from scratch) and one multi-task network from scratch at the "
-      "same steps in all and at the tree's total; each final policy's rewards in its skill's training episodes and "
-      "its card into OUT/results.csv. Given again, it goes on where it stopped");
+      "same steps in all and at the tree's total, and from the walk's weights at the same steps; each final "
+      "policy's rewards in its skill's training episodes and its card into OUT/results.csv. Given again, it goes on "
+      "where it stopped");
   compareCmd->add_option("--out", experiment.out, "Output folder (default runs/compare)");
   compareCmd
       ->add_option("--steps-scale", experiment.stepsScale,

@@ -23,10 +23,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 SKILLS = ["walk", "run", "squat", "jump", "crawl", "one_leg"]
-ARMS = ["tree", "multitask1x", "multitask6x"]
-COLOURS = {"tree": "tab:green", "multitask1x": "tab:red", "multitask6x": "tab:orange"}
+ARMS = ["tree", "multitask1x", "multitask6x", "multitaskwalk"]
+COLOURS = {"tree": "tab:green", "multitask1x": "tab:red", "multitask6x": "tab:orange", "multitaskwalk": "tab:blue"}
 LABELS = {"tree": "tree (from the parent's weights)", "multitask1x": "multi-task, 10^7 in all",
-          "multitask6x": "multi-task, 6 x 10^7 in all"}
+          "multitask6x": "multi-task, 6 x 10^7 in all", "multitaskwalk": "multi-task from the walk, 10^7 in all"}
 
 
 def number(text):
@@ -133,7 +133,7 @@ def main():
     width = 0.8 / len(ARMS)
     for i, arm in enumerate(ARMS):
         shares = [100 * mean([1.0 if p else 0.0 for p in passed[arm][s]]) for s in SKILLS]
-        ax.bar([k + (i - 1) * width for k in range(len(SKILLS))], [0 if math.isnan(v) else v for v in shares],
+        ax.bar([k + (i - (len(ARMS) - 1) / 2) * width for k in range(len(SKILLS))], [0 if math.isnan(v) else v for v in shares],
                width=width, color=COLOURS[arm], label=LABELS[arm])
     ax.set_xticks(range(len(SKILLS)))
     ax.set_xticklabels(SKILLS)

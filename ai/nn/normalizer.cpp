@@ -74,4 +74,13 @@ void RunningNormalizer::adaptForBranch(double maxCount) {
   refreshCache();
 }
 
+void RunningNormalizer::appendFeatures(int extra) {
+  const Eigen::Index n = mean_.size();
+  mean_.conservativeResize(n + extra);
+  var_.conservativeResize(n + extra);
+  mean_.tail(extra).setZero();
+  var_.tail(extra).setOnes();
+  refreshCache();
+}
+
 }  // namespace ai

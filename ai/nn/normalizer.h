@@ -45,6 +45,10 @@ class RunningNormalizer {
   /// that the branch's own observations take over the statistics within a few iterations.
   void adaptForBranch(double maxCount);
 
+  /// Appends `extra` features at mean 0 and variance 1 (a network widened for new inputs after the old ones: the
+  /// multi-task network's one-hot after a skill's observation); the count stays.
+  void appendFeatures(int extra);
+
   /// Appends the statistics.
   void save(ByteWriter* out) const;
   /// Reads what save wrote. Throws engine::Error on malformed data.

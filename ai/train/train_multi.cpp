@@ -73,11 +73,20 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
   PpoConfig config = parsePpoConfig(engine::readFile(tree.path), tree.path, "ppo");
   // from fresh weights the paper's linear schedule (Table 2: 3e-4 decaying), as the paper's baseline and the tree's
   // walk from scratch were trained; the tree file's adaptive rate is for branches and fine-tunes (--adaptive-rate)
-  if (o.linearRate) config.adaptiveLearningRate = false;
+  if (!o.initFrom.empty()) {
+    config.learningRate = config.branchLearningRate;  // the tree's branches' start: adapt what is inherited
+  } else if (o.linearRate) {
+    config.adaptiveLearningRate = false;
+  }
   // every environment steps as often per iteration as in a skill's own run (the tree's buffer over a skill's envs)
   const int stepsPerEnv = rolloutSteps(tree, config);
   const int envs = o.envsPerSkill * int(o.skills.size());
   config.bufferSize = stepsPerEnv * envs;
+  if (config.bufferSize < config.batchSize)
+    throw engine::Error("multitask: " + std::to_string(envs) + " environments x " + std::to_string(stepsPerEnv) +
+                        " steps = " + std::to_string(config.bufferSize) +
+                        " samples an iteration, fewer than one minibatch of " + std::to_string(config.batchSize) +
+                        ": give more skills or --envs-per-skill");
   std::vector<MultiTaskEnv::Task> tasks;
   for (const auto& l : contexts) {
     log("skill '" + l->skill->name + "' (one-hot " + std::to_string(tasks.size()) +
@@ -125,6 +134,18 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
   };
 
   Trainer trainer(env, config, options);
+  if (!o.resume && !o.initFrom.empty()) {
+    const PolicyState from = loadPolicyState(o.initFrom);
+    if (from.observationSize() != robot::kObservationSize || from.actionSize() != robot::kActionSize)
+      throw engine::Error(o.initFrom + ": a skill's policy has " + std::to_string(robot::kObservationSize) +
+                          " inputs and " + std::to_string(robot::kActionSize) + " actions; this one " +
+                          std::to_string(from.observationSize()) + " and " + std::to_string(from.actionSize()));
+    trainer.initialiseFrom(widenedForTasks(from, env.taskCount()));
+    char rate[32];
+    std::snprintf(rate, sizeof rate, "%.2g", config.learningRate);
+    log("initialised from " + o.initFrom + " (the one-hot's inputs at zero weight); first learning rate " + rate +
+        " ([ppo] branch_learning_rate)\n");
+  }
   std::string order;
   for (const std::string& s : o.skills) order += s + "\n";
   engine::makeDirectories(o.runDir);
@@ -151,6 +172,18 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
   log("exported " + o.runDir + "/" + kPolicyFile + " (the final policy; skills in one-hot order in " + o.runDir + "/" +
       kSkillsFile + "); its cards: treelearn eval SKILL --multitask " + o.runDir + "\n");
   return {o.runDir, trainer.iteration(), trainer.envSteps(), false};
+}
+
+PolicyState widenedForTasks(const PolicyState& policy, int taskCount) {
+  PolicyState p = policy;
+  for (MlpWeights* net : {&p.actor, &p.critic}) {
+    Eigen::MatrixXf& w = net->W.front();
+    const Eigen::Index in = w.cols();
+    w.conservativeResize(Eigen::NoChange, in + taskCount);
+    w.rightCols(taskCount).setZero();
+  }
+  p.normalizer.appendFeatures(taskCount);
+  return p;
 }
 
 RewardFigures measureRewards(const SkillContext& l, const PolicyFn& act, const std::string& modelsDir, int envs,

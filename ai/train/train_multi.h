@@ -30,6 +30,10 @@ struct TrainMultiOptions {
   bool resume = false;
   /// the paper's linear learning-rate schedule (Table 2), not the tree file's adaptive one (see train_multi.cpp)
   bool linearRate = true;
+  /// start from this policy file of one skill (the walk's: inheritance without isolation) instead of fresh weights:
+  /// its first layers take the one-hot's inputs at zero weight, and training follows the tree's branch recipe (the
+  /// [ppo] adaptive rate from branch_learning_rate) instead of the linear schedule
+  std::string initFrom;
   /// where the handover episodes' drivers are read from (default: the tree file's folder)
   std::string modelsDir;
 };
@@ -44,6 +48,11 @@ struct TrainMultiResult {
 /// skills in one-hot order); RUN/skills.csv holds each skill's episodes per iteration.
 TrainMultiResult trainMultiTask(const TrainMultiOptions& options, const Log& log,
                                 const std::function<void(Trainer*)>& onTrainer = {});
+
+/// A skill's policy (86 inputs) widened for a multi-task network of `taskCount` skills: the actor's and the critic's
+/// first layers get taskCount more input columns at zero weight, the normaliser taskCount more features at mean 0 and
+/// variance 1, so that for any one-hot it acts exactly as before.
+PolicyState widenedForTasks(const PolicyState& policy, int taskCount);
 
 /// A policy's rewards in its skill's own training episodes (the same measure for every arm of the comparison): the
 /// skill's SkillEnv as `train SKILL` builds it (commands, pushes, randomisation, handover and play episodes, its

@@ -29,20 +29,20 @@ TEST(ExperimentCli, ASmokeComparisonWritesEveryArmsRunResultsAndFiguresAndResume
     EXPECT_TRUE(fs::exists(dir + "/tree/seed1/" + skill + "/" + skill + ".policy.bin")) << skill;
     EXPECT_TRUE(fs::exists(dir + "/tree/seed1/" + skill + "/log.csv")) << skill;
   }
-  for (const char* arm : {"multitask1x", "multitask6x"}) {
+  for (const char* arm : {"multitask1x", "multitask6x", "multitaskwalk"}) {
     EXPECT_TRUE(fs::exists(dir + "/" + arm + "/seed1/multitask.policy.bin")) << arm;
     EXPECT_TRUE(fs::exists(dir + "/" + arm + "/seed1/skills.csv")) << arm;
   }
-  // 3 arms x 6 skills, each with its measures
+  // 4 arms x 6 skills, each with its measures
   const std::string results = engine::readFile(dir + "/results.csv");
   std::vector<std::string> rows;
   std::istringstream in(results);
   for (std::string l; std::getline(in, l);) rows.push_back(l);
-  ASSERT_EQ(rows.size(), 19u) << results;
+  ASSERT_EQ(rows.size(), 25u) << results;
   EXPECT_EQ(rows[0],
             "arm,seed,skill,env_steps,episodes,mean_episode_return,reward_per_step,fell_share,card_score,"
             "card_pass");
-  for (const char* arm : {"tree,1,", "multitask1x,1,", "multitask6x,1,"})
+  for (const char* arm : {"tree,1,", "multitask1x,1,", "multitask6x,1,", "multitaskwalk,1,"})
     for (const char* skill : kSkills)
       EXPECT_NE(results.find(std::string(arm) + skill + ","), std::string::npos) << arm << skill;
   // given again: every run is done and every row there, so nothing is trained or measured again
