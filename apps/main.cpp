@@ -625,10 +625,11 @@ int main(int argc, char** argv) {
   CLI::App* compareCmd = experimentCmd->add_subcommand(
       "compare",
       "The paper's comparison (docs/comparison.md): the tree arm (each of walk, run, squat, jump, crawl, one_leg "
-      "from its parent's shipped weights, the walk from scratch) and one multi-task network from scratch at the "
-      "same steps in all and at the tree's total, and from the walk's weights at the same steps; each final "
-      "policy's rewards in its skill's training episodes and its card into OUT/results.csv. Given again, it goes on "
-      "where it stopped");
+      "from its parent's shipped weights, the walk from scratch), one network trained on the six in turn (the "
+      "sequential arm), and one multi-task network from scratch at the same steps in all and at the tree's total, "
+      "and from the walk's weights; each final policy's rewards in its skill's training episodes and its card into "
+      "OUT/results.csv, and after each stage the cards of the skills learnt so far into OUT/matrices.csv "
+      "(forgetting and retention). Given again, it goes on where it stopped");
   compareCmd->add_option("--out", experiment.out, "Output folder (default runs/compare)");
   compareCmd
       ->add_option("--steps-scale", experiment.stepsScale,

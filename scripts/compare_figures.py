@@ -10,7 +10,9 @@ Writes, with matplotlib (Debian python3-matplotlib):
   radar.png         each arm's final mean episode return per skill from OUT/results.csv (the rewards measure:
                     deterministic actions in the skill's own training episodes), each skill scaled by its largest
                     value over the arms, the paper's Fig. 10;
-  cards.png         the share of each arm's final policies whose report card passes, per skill.
+  cards.png         the share of each arm's final policies whose report card passes, per skill;
+  forgetting.png,   after each stage of the paper's order, the card score of every skill learnt so far: on the
+  retention.png     sequential arm's one network, and on the tree's own models (OUT/matrices.csv, seed 1).
 """
 import csv
 import math
@@ -23,10 +25,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 SKILLS = ["walk", "run", "squat", "jump", "crawl", "one_leg"]
-ARMS = ["tree", "multitask1x", "multitask6x", "multitaskwalk"]
-COLOURS = {"tree": "tab:green", "multitask1x": "tab:red", "multitask6x": "tab:orange", "multitaskwalk": "tab:blue"}
-LABELS = {"tree": "tree (from the parent's weights)", "multitask1x": "multi-task, 10^7 in all",
-          "multitask6x": "multi-task, 6 x 10^7 in all", "multitaskwalk": "multi-task from the walk, 10^7 in all"}
+ARMS = ["tree", "sequential", "multitask1x", "multitask6x", "multitaskwalk"]
+COLOURS = {"tree": "tab:green", "sequential": "tab:purple", "multitask1x": "tab:red", "multitask6x": "tab:orange",
+           "multitaskwalk": "tab:blue"}
+LABELS = {"tree": "tree (from the parent's weights)", "sequential": "one network, the skills in turn",
+          "multitask1x": "multi-task, 10^7 in all", "multitask6x": "multi-task, 6 x 10^7 in all",
+          "multitaskwalk": "multi-task from the walk, 10^7 in all"}
 
 
 def number(text):
@@ -43,8 +47,10 @@ def seeds(folder):
     return sorted(d for d in os.listdir(folder) if d.startswith("seed"))
 
 
-def tree_curve(out, seed, skill):
+def tree_curve(out, seed, skill, arm="tree"):
     path = os.path.join(out, "tree", seed, skill, "log.csv")
+    if arm == "sequential" and skill != SKILLS[0]:
+        path = os.path.join(out, "sequential", seed, f"{SKILLS.index(skill) + 1}_{skill}", "log.csv")
     if not os.path.exists(path):
         return [], []
     xs, ys = [], []
@@ -83,7 +89,10 @@ def main():
         for arm in ARMS:
             folder = os.path.join(out, arm)
             for i, seed in enumerate(seeds(folder)):
-                xs, ys = tree_curve(out, seed, skill) if arm == "tree" else multitask_curve(out, arm, seed, skill)
+                if arm in ("tree", "sequential"):
+                    xs, ys = tree_curve(out, seed, skill, arm)
+                else:
+                    xs, ys = multitask_curve(out, arm, seed, skill)
                 if xs:
                     ax.plot(xs, ys, color=COLOURS[arm], alpha=0.9 if i == 0 else 0.5,
                             label=LABELS[arm] if i == 0 else None)
@@ -143,7 +152,41 @@ def main():
     fig.tight_layout()
     fig.savefig(os.path.join(figdir, "cards.png"), dpi=100)
     plt.close(fig)
-    print(f"figures in {figdir}: reward_SKILL.png for {', '.join(SKILLS)}, radar.png, cards.png")
+    matrices_path = os.path.join(out, "matrices.csv")
+    cells = {}
+    if os.path.exists(matrices_path):
+        with open(matrices_path) as f:
+            for row in csv.DictReader(f):
+                if row["seed"] == "1":
+                    cells[(row["arm"], int(row["stage"]), row["skill"])] = (number(row["card_score"]),
+                                                                           row["card_pass"] == "1")
+    for arm, name, title in (("sequential", "forgetting", "one network, the skills in turn: forgetting"),
+                             ("tree", "retention", "the tree's own models: retention")):
+        fig, ax = plt.subplots(figsize=(6.5, 5))
+        grid = [[math.nan] * len(SKILLS) for _ in SKILLS]
+        for k in range(len(SKILLS)):
+            for j in range(k + 1):
+                if (arm, k + 1, SKILLS[j]) in cells:
+                    grid[k][j] = cells[(arm, k + 1, SKILLS[j])][0]
+        image = ax.imshow(grid, cmap="viridis")
+        for k in range(len(SKILLS)):
+            for j in range(k + 1):
+                if (arm, k + 1, SKILLS[j]) in cells:
+                    score, ok = cells[(arm, k + 1, SKILLS[j])]
+                    ax.text(j, k, f"{score:.2f}\n{'pass' if ok else 'fail'}", ha="center", va="center", fontsize=7,
+                            color="white")
+        ax.set_xticks(range(len(SKILLS)))
+        ax.set_xticklabels(SKILLS)
+        ax.set_yticks(range(len(SKILLS)))
+        ax.set_yticklabels([f"after {k + 1}: {s}" for k, s in enumerate(SKILLS)])
+        ax.set_xlabel("card of")
+        ax.set_title(title + " (card score)", fontsize=10)
+        fig.colorbar(image, ax=ax, shrink=0.8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(figdir, f"{name}.png"), dpi=100)
+        plt.close(fig)
+
+    print(f"figures in {figdir}: reward_SKILL.png for {', '.join(SKILLS)}, radar.png, cards.png, forgetting.png, retention.png")
 
 
 if __name__ == "__main__":

@@ -118,7 +118,7 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   config = parsePpoConfig(treeText, l.tree.path, "skill." + skill.name + ".ppo", config);
   // a branch from its parent's weights starts at [ppo] branch_learning_rate, so that its first updates adapt the
   // inherited policy rather than overwrite it (a resumed branch run keeps the config it began with)
-  const bool fromParent = !skill.parent.empty() && o.initFrom.empty();
+  const bool fromParent = (!skill.parent.empty() && o.initFrom.empty()) || (o.initAsBranch && !o.initFrom.empty());
   if (!std::isnan(o.learningRate)) {
     if (!(o.learningRate > 0 && o.learningRate < 1)) throw engine::Error("--learning-rate must be in (0, 1)");
     config.learningRate = o.learningRate;  // decays linearly to the config's final rate, as usual
@@ -208,9 +208,11 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
   if (!o.resume && !o.initFrom.empty()) {
     PolicyState state = loadPolicyState(o.initFrom);
     if (!std::isnan(o.initLogStd)) state.logStd.setConstant(float(o.initLogStd));  // e.g. less noise to polish with
-    trainer.initialiseFrom(state, float(o.reinflateLogStd), /*fineTune=*/true);
-    say(log, "initialised from %s (fine-tuning: fresh optimiser and schedules, the normaliser's statistics kept)%s\n",
-        o.initFrom.c_str(), std::isnan(o.initLogStd) ? "" : ", log-std set");
+    trainer.initialiseFrom(state, float(o.reinflateLogStd), /*fineTune=*/!o.initAsBranch);
+    say(log, "initialised from %s (%s)%s\n", o.initFrom.c_str(),
+        o.initAsBranch ? "as a branch from its parent: the normaliser's weight capped"
+                       : "fine-tuning: fresh optimiser and schedules, the normaliser's statistics kept",
+        std::isnan(o.initLogStd) ? "" : ", log-std set");
   } else if (!o.resume && !skill.parent.empty()) {
     const SkillSpec* parent = l.tree.find(skill.parent);
     const std::string parentPolicy = modelsDir + "/" + parent->name + ".policy.bin";

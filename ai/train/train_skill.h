@@ -36,6 +36,9 @@ struct TrainSkillOptions {
   int criticWarmup = 0;     ///< iterations that update the critic only (a branch's inherited critic learns first)
   bool zeroOutput = false;  ///< branch init: the actor's output layer starts at zero (the branch begins as its prior)
   std::string initFrom;     ///< start from this policy file (PolicyState) instead of fresh weights or the parent
+  /// with initFrom: start as a branch does from its parent (the normaliser's weight capped, [ppo]
+  /// branch_learning_rate) rather than as a fine-tune of the same skill (the sequential arm of the comparison)
+  bool initAsBranch = false;
   double learningRate = std::nan("");  ///< override of the [ppo] initial learning rate (fine-tuning)
   bool linearRate = false;  ///< the paper's linear learning-rate schedule instead of a KL-adaptive [ppo] (from scratch)
   /// where the other skills' models are read from (the parent's policy, handover and card drivers; default: the
