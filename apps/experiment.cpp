@@ -108,10 +108,13 @@ int runExperimentCompare(const ExperimentOptions& o) {
   std::map<std::string, std::string> matrices = readRows(matrixPath, kMatricesHeader, 4);
   std::printf("the comparison in %s: %lld steps per skill (--steps-scale %g), seeds 1-%d\n", o.out.c_str(),
               (long long)budget, o.stepsScale, o.seeds);
-  const double branchRate = [&] {
-    const ai::SkillContext walk = ai::loadSkillContext(skills.front());
-    return ai::parsePpoConfig(engine::readFile(walk.tree.path), walk.tree.path, "ppo").branchLearningRate;
-  }();
+  // each skill's tree entry and robot, read once (a context's skill points into its own tree: moved, never copied)
+  std::map<std::string, ai::SkillContext> contexts;
+  for (const std::string& skill : skills) contexts.emplace(skill, ai::loadSkillContext(skill));
+  auto context = [&](const std::string& skill) -> const ai::SkillContext& { return contexts.at(skill); };
+  const ai::SkillContext& root = context(skills.front());
+  const double branchRate =
+      ai::parsePpoConfig(engine::readFile(root.tree.path), root.tree.path, "ppo").branchLearningRate;
 
   for (int seed = 1; seed <= o.seeds; ++seed) {
     const std::string seedDir = "seed" + std::to_string(seed);
@@ -141,16 +144,16 @@ int runExperimentCompare(const ExperimentOptions& o) {
     };
     // the tree arm: each skill from its parent's shipped weights, as `train SKILL` trains it
     for (const std::string& skill : skills) {
-      const ai::SkillContext l = ai::loadSkillContext(skill);
+      const ai::SkillContext& l = context(skill);
       ai::TrainSkillOptions t = options(treeRun(skill));
       t.linearRate = l.skill->parent.empty();  // from scratch, as the paper's and the multi-task arm's
       if (!train("tree arm, " + skill, l, t)) return 130;
     }
     // the sequential arm: one network, each skill in turn from the one before it, started as a branch is
     for (size_t k = 1; k < skills.size(); ++k) {
-      const ai::SkillContext l = ai::loadSkillContext(skills[k]);
+      const ai::SkillContext& l = context(skills[k]);
       ai::TrainSkillOptions t = options(stageRun(k));
-      const ai::SkillContext before = ai::loadSkillContext(skills[k - 1]);
+      const ai::SkillContext& before = context(skills[k - 1]);
       t.initFrom = ai::exportedPolicyPath(stageRun(k - 1), *before.skill);
       t.initAsBranch = true;
       t.learningRate = branchRate;
@@ -183,14 +186,14 @@ int runExperimentCompare(const ExperimentOptions& o) {
         multi = std::make_shared<ai::MultiTaskPolicy>(ai::loadMultiTaskPolicy(o.out + "/" + arm + "/" + seedDir));
       std::shared_ptr<const ai::PolicyState> last;  // the sequential arm's network after its last stage
       if (arm == "sequential") {
-        const ai::SkillContext l = ai::loadSkillContext(skills.back());
+        const ai::SkillContext& l = context(skills.back());
         last = std::make_shared<ai::PolicyState>(
             ai::loadPolicyState(ai::exportedPolicyPath(stageRun(skills.size() - 1), *l.skill)));
       }
       for (const std::string& skill : skills) {
         const std::string key = arm + "," + std::to_string(seed) + "," + skill;
         if (results.count(key)) continue;
-        const ai::SkillContext l = ai::loadSkillContext(skill);
+        const ai::SkillContext& l = context(skill);
         std::shared_ptr<ai::LoadedPolicy> model;
         ai::PolicyFn act;
         int64_t steps = budget;
@@ -219,11 +222,11 @@ int runExperimentCompare(const ExperimentOptions& o) {
     // after each stage k, the cards of the skills learnt so far: on the sequential arm's one network (forgetting)
     // and on the tree's own models (retention)
     for (size_t k = 0; k < skills.size(); ++k) {
-      const ai::SkillContext stageSkill = ai::loadSkillContext(skills[k]);
+      const ai::SkillContext& stageSkill = context(skills[k]);
       const auto network = std::make_shared<const ai::PolicyState>(
           ai::loadPolicyState(ai::exportedPolicyPath(stageRun(k), *stageSkill.skill)));
       for (size_t j = 0; j <= k; ++j) {
-        const ai::SkillContext l = ai::loadSkillContext(skills[j]);
+        const ai::SkillContext& l = context(skills[j]);
         for (const std::string& arm : {std::string("sequential"), std::string("tree")}) {
           const std::string key =
               std::string(arm) + "," + std::to_string(seed) + "," + std::to_string(k + 1) + "," + skills[j];
