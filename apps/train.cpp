@@ -279,8 +279,8 @@ int runShip(const ShipOptions& o) {
     record = card.text;
   }
   // each file atomically (a temp file, then a rename): the branches' weights, the model play loads, its card
-  engine::writeFileAtomic(installedPolicy, engine::readFile(policyPath));
-  engine::writeFileAtomic(installedOnnx, engine::readFile(onnxPath));
+  engine::writeFileAtomic(installedPolicy, engine::readFile(policyPath, engine::kMaxModelFileBytes));
+  engine::writeFileAtomic(installedOnnx, engine::readFile(onnxPath, engine::kMaxModelFileBytes));
   if (!record.empty()) engine::writeFileAtomic(cardRecordPath(l.tree, skill), record);
   std::printf("shipped %s and %s%s\n", installedOnnx.c_str(), installedPolicy.c_str(),
               record.empty() ? "" : (", card recorded in " + cardRecordPath(l.tree, skill)).c_str());

@@ -312,7 +312,9 @@ std::vector<EntryState> parseEntries(const std::string& text, const std::string&
   return entries;
 }
 
-std::vector<EntryState> loadEntries(const std::string& path) { return parseEntries(engine::readFile(path), path); }
+std::vector<EntryState> loadEntries(const std::string& path) {
+  return parseEntries(engine::readFile(path, engine::kMaxDataFileBytes), path);
+}
 
 void saveEntries(const std::string& path, const std::vector<EntryState>& entries) {
   engine::writeFileAtomic(path, formatEntries(entries));

@@ -102,7 +102,7 @@ void savePolicyState(const std::string& path, const PolicyState& policy, const P
 }
 
 PolicyState loadPolicyState(const std::string& path, PolicyInfo* info) {
-  const std::string bytes = engine::readFile(path);
+  const std::string bytes = engine::readFile(path, engine::kMaxModelFileBytes);
   ByteReader r(unwrap(kPolicyMagic, bytes, path, "policy"), path);
   PolicyInfo i;
   i.configHash = r.u64();
@@ -132,7 +132,7 @@ void saveCheckpoint(const std::string& path, const TrainerCheckpoint& c) {
 }
 
 TrainerCheckpoint loadCheckpoint(const std::string& path) {
-  const std::string bytes = engine::readFile(path);
+  const std::string bytes = engine::readFile(path, engine::kMaxModelFileBytes);
   ByteReader r(unwrap(kCheckpointMagic, bytes, path, "checkpoint"), path);
   TrainerCheckpoint c;
   c.configHash = r.u64();

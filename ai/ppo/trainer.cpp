@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -229,7 +230,7 @@ void Trainer::resumeFromCheckpoint(double* wallOffset) {
   std::string header;
   for (const std::string& col : logColumns()) header += (header.empty() ? "" : ",") + col;
   std::string kept = header + "\n";
-  std::ifstream in(logPath);
+  std::istringstream in(std::filesystem::exists(logPath) ? engine::readFile(logPath, engine::kMaxDataFileBytes) : "");
   std::string line;
   if (in && std::getline(in, line)) {
     if (line != header) throw Error(logPath + ":1: columns differ from this run's; move the old log away to resume");

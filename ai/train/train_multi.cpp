@@ -30,7 +30,7 @@ constexpr const char* kSkillsLogHeader =
 // the rows of RUN/skills.csv of iterations before `iteration` (a resumed run writes that one again)
 std::string keptRows(const std::string& path, int64_t iteration) {
   std::string kept = kSkillsLogHeader;
-  std::ifstream in(path);
+  std::istringstream in(std::filesystem::exists(path) ? engine::readFile(path, engine::kMaxDataFileBytes) : "");
   std::string line;
   if (!in || !std::getline(in, line)) return kept;
   while (std::getline(in, line)) {

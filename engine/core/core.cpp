@@ -46,15 +46,62 @@ bool parseHex(std::string_view s, uint64_t* out) {
   return true;
 }
 
-std::string readFile(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, expected a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open: " + std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw Error(path + ": read error");
-  return ss.str();
+namespace {
+std::string sizeText(int64_t bytes) {
+  char buf[32];
+  if (bytes >= (int64_t(1) << 20))
+    std::snprintf(buf, sizeof buf, "%.0f MiB", double(bytes) / double(1 << 20));
+  else
+    std::snprintf(buf, sizeof buf, "%lld bytes", static_cast<long long>(bytes));
+  return buf;
+}
+}  // namespace
+
+std::string readFile(const std::string& path, int64_t maxBytes) {
+  // opened non-blocking so that a FIFO is refused below instead of waiting for a writer forever
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw Error(path + ": cannot open: " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    const int e = errno;
+    ::close(fd);
+    throw Error(path + ": cannot read: " + std::strerror(e));
+  }
+  if (!S_ISREG(st.st_mode)) {
+    ::close(fd);
+    const char* what = S_ISDIR(st.st_mode)    ? "is a directory"
+                       : S_ISFIFO(st.st_mode) ? "is a FIFO"
+                       : S_ISCHR(st.st_mode)  ? "is a character device"
+                       : S_ISBLK(st.st_mode)  ? "is a block device"
+                       : S_ISSOCK(st.st_mode) ? "is a socket"
+                                              : "is not a regular file";
+    throw Error(path + ": " + what + ", expected a regular file");
+  }
+  if (st.st_size > maxBytes) {
+    ::close(fd);
+    throw Error(path + ": is " + sizeText(st.st_size) + ", larger than the " + sizeText(maxBytes) +
+                " this kind of file may be");
+  }
+  std::string bytes;
+  bytes.reserve(static_cast<size_t>(st.st_size));
+  char buf[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0) {
+      if (errno == EINTR || errno == EAGAIN) continue;
+      const int e = errno;
+      ::close(fd);
+      throw Error(path + ": read error: " + std::strerror(e));
+    }
+    if (n == 0) break;
+    bytes.append(buf, static_cast<size_t>(n));
+    if (static_cast<int64_t>(bytes.size()) > maxBytes) {  // grew while being read
+      ::close(fd);
+      throw Error(path + ": grew past the " + sizeText(maxBytes) + " this kind of file may be while being read");
+    }
+  }
+  ::close(fd);
+  return bytes;
 }
 
 void writeFileAtomic(const std::string& path, std::string_view bytes) {
