@@ -361,34 +361,43 @@ Level parseLevel(const std::string& source, const std::string& fileName) {
            "ball");
   for (const GoalDef& g : level.goals) inside(g.centre, 0.5 * g.size, g.line, "goal");
 
-  // every checkpoint needs room to stand (kStandHeight, kStandHalfFootprint): the robot is put back there
+  // the spawn and every checkpoint need room to stand (kStandHeight, kStandHalfFootprint): the robot is put there
+  // upright on both feet, and one put inside a box is thrown out of it (a box at the spawn threw the pelvis 15 m up)
+  auto needRoom = [&](const Eigen::Vector2d& at, int line, const std::string& where) {
+    const Eigen::Vector3d c(at.x(), at.y(), 0.5 * kStandHeight);
+    const Eigen::Vector3d half(kStandHalfFootprint, kStandHalfFootprint, 0.5 * kStandHeight);
+    auto blocked = [&](const Eigen::Vector3d& centre, const Eigen::Vector3d& halfSize, double yaw) {
+      // a yawed box by its axis-aligned bounds
+      const double cy = std::abs(std::cos(yaw)), sy = std::abs(std::sin(yaw));
+      const Eigen::Vector3d h(cy * halfSize.x() + sy * halfSize.y(), sy * halfSize.x() + cy * halfSize.y(),
+                              halfSize.z());
+      return ((c - centre).cwiseAbs() - half - h).maxCoeff() < -1e-9;
+    };
+    auto refuse = [&](const std::string& what, int whatLine) {
+      char room[96];
+      std::snprintf(room, sizeof room, "within %.2f m of it and lower than %.2f m", kStandHalfFootprint, kStandHeight);
+      throw Error(located(fileName, line,
+                          where + " has no room to stand: " + what + " (defined on line " + std::to_string(whatLine) +
+                              ") is " + room + ", where the robot is put upright on both feet"));
+    };
+    for (const BoxDef& b : level.boxes)
+      if (blocked(b.centre, 0.5 * b.size, b.yaw)) refuse(b.name.empty() ? "a box" : "'" + b.name + "'", b.line);
+    for (const QuestionBoxDef& q : level.questionBoxes)
+      if (blocked(q.centre, 0.5 * q.size, 0.0)) refuse("a question box", q.line);
+  };
+  {
+    char xy[64];
+    std::snprintf(xy, sizeof xy, "(%g, %g)", level.spawn.x(), level.spawn.y());
+    const toml::node* s = root.get("spawn");
+    needRoom(level.spawn, s ? r.line(*s) : 0,
+             std::string("the spawn at ") + xy + (s ? "" : " (the default: the level has no [spawn])"));
+  }
   if (!level.rules.checkpoints.empty()) {
     const int line = r.line(*root.get("rules")->as_table()->get("checkpoints"));
     for (double x : level.rules.checkpoints) {
-      const Eigen::Vector3d c(x, 0.0, 0.5 * kStandHeight);
-      const Eigen::Vector3d half(kStandHalfFootprint, kStandHalfFootprint, 0.5 * kStandHeight);
-      auto blocked = [&](const Eigen::Vector3d& centre, const Eigen::Vector3d& halfSize, double yaw) {
-        // a yawed box by its axis-aligned bounds
-        const double cy = std::abs(std::cos(yaw)), sy = std::abs(std::sin(yaw));
-        const Eigen::Vector3d h(cy * halfSize.x() + sy * halfSize.y(), sy * halfSize.x() + cy * halfSize.y(),
-                                halfSize.z());
-        return ((c - centre).cwiseAbs() - half - h).maxCoeff() < -1e-9;
-      };
-      auto refuse = [&](const std::string& what, int whatLine) {
-        char xs[32];
-        std::snprintf(xs, sizeof xs, "%g", x);
-        char room[96];
-        std::snprintf(room, sizeof room, "within %.2f m of it and lower than %.2f m", kStandHalfFootprint,
-                      kStandHeight);
-        throw Error(located(fileName, line,
-                            std::string("checkpoint at x = ") + xs + " has no room to stand: " + what +
-                                " (defined on line " + std::to_string(whatLine) + ") is " + room +
-                                ", where a fall puts the robot back upright on both feet"));
-      };
-      for (const BoxDef& b : level.boxes)
-        if (blocked(b.centre, 0.5 * b.size, b.yaw)) refuse(b.name.empty() ? "a box" : "'" + b.name + "'", b.line);
-      for (const QuestionBoxDef& q : level.questionBoxes)
-        if (blocked(q.centre, 0.5 * q.size, 0.0)) refuse("a question box", q.line);
+      char xs[32];
+      std::snprintf(xs, sizeof xs, "%g", x);
+      needRoom(Eigen::Vector2d(x, 0.0), line, std::string("checkpoint at x = ") + xs);
     }
   }
   return level;

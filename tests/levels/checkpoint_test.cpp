@@ -1,4 +1,4 @@
-// checkpoint_test.cpp — a checkpoint is where a fall puts the robot back, upright on both feet: the loader refuses
+// checkpoint_test.cpp — the spawn and a checkpoint are where the robot is put, upright on both feet: the loader refuses
 // one without room to stand (levels::kStandHeight, levels::kStandHalfFootprint: 1.35 m up, 0.3 m around).
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -110,4 +110,29 @@ TEST(Level, AQuestionBoxOverACheckpointIsRefusedOnlyBelowStandingHeight) {
 TEST(Level, TheShippedMarioCheckpointsHaveRoomToStand) {
   const levels::Level m = levels::loadLevel(std::string(TREELEARN_SOURCE_DIR) + "/levels/mario");
   EXPECT_EQ(m.rules.checkpoints.size(), 4u);
+}
+
+TEST(Level, SpawnInsideABoxIsRefusedAtTheSpawnsLine) {
+  // a 1 m cube on the default spawn at (0, 0) threw the pelvis 15 m up on the first tick
+  const std::string cube =
+      "[[box]]\n"                   // 20
+      "name = \"crate\"\n"          // 21
+      "centre = [0.0, 0.0, 0.5]\n"  // 22
+      "size = [1.0, 1.0, 1.0]\n";   // 23
+  const std::string e = loadError(course("[]", cube));
+  EXPECT_NE(e.find("level.toml: the spawn at (0, 0) (the default: the level has no [spawn]) has no room to stand: "
+                   "'crate' (defined on line 20)"),
+            std::string::npos)
+      << e;
+  // with a [spawn] table the error points at it; 0.8 m away the robot's 0.3 m around clear the cube's 0.5 m
+  const std::string at = "[spawn]\nposition = [0.75, 0.0]\n";  // 20, 21
+  EXPECT_NE(loadError(course("[]", at + cube)).find("level.toml:20: the spawn at (0.75, 0) has no room to stand"),
+            std::string::npos);
+  EXPECT_EQ(loadError(course("[]", "[spawn]\nposition = [-0.85, 0.0]\n" + cube)), "");
+}
+
+TEST(Level, SpawnUnderALowCeilingIsRefused) {
+  // the tunnel's roof is 0.6 m up over x 5..8: a robot spawned at x = 6 would stand into it
+  const std::string e = loadError(course("[]", "[spawn]\nposition = [6.0, 0.0]\n"));
+  EXPECT_NE(e.find("level.toml:20: the spawn at (6, 0) has no room to stand: 'tunnel'"), std::string::npos) << e;
 }
