@@ -440,10 +440,13 @@ void savePolicyOnnx(const std::string& path, const PolicyExport& p) {
 }
 
 LoadedPolicy loadPolicyOnnx(const std::string& path) {
-  const std::string bytes = engine::readFile(path);
+  const std::string bytes = engine::readFile(path, engine::kMaxModelFileBytes);
   onnx::ModelProto model;
   if (bytes.empty() || !model.ParseFromString(bytes)) fail(path, "not an ONNX model (protobuf parse failed)");
   if (!model.has_graph()) fail(path, "not an ONNX model (no graph)");
+  // protobuf keeps bytes it has no field for: text or junk appended to a model parses as unknown fields
+  if (!model.unknown_fields().empty() || !model.graph().unknown_fields().empty())
+    fail(path, "holds data that is no part of an ONNX model (bytes appended to it, or a newer format)");
   runChecker(path, model);
 
   if (model.ir_version() < 7) fail(path, "IR version " + std::to_string(model.ir_version()) + " is older than 7");
@@ -472,6 +475,8 @@ void LoadedPolicy::act(const Eigen::MatrixXf& obs, Eigen::MatrixXf* actions) con
   mlpForward(actor, x, actions);
 }
 
-uint64_t onnxFileHash(const std::string& path) { return engine::hashBytes(engine::readFile(path)); }
+uint64_t onnxFileHash(const std::string& path) {
+  return engine::hashBytes(engine::readFile(path, engine::kMaxModelFileBytes));
+}
 
 }  // namespace ai

@@ -17,6 +17,13 @@ std::string joinNumbers(const double* v, size_t n) {
   return s.str();
 }
 
+// a metadata value as it may be printed: control bytes shown as '?', long values cut
+std::string printable(const std::string& v) {
+  std::string out;
+  for (char c : v.substr(0, 200)) out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? '?' : c;
+  return v.size() > 200 ? out + "..." : out;
+}
+
 // the keys that define how a policy's output becomes joint torques; a mismatch means a different controller
 const char* const kControllerKeys[] = {
     "treelearn.layout_version",
@@ -98,14 +105,32 @@ Metadata skillMetadata(const robot::RobotModel& model, const robot::SkillDef& sk
 
 void checkModelMatchesSkill(const LoadedPolicy& policy, const std::string& modelPath, const robot::RobotModel& model,
                             const robot::SkillDef& skill, const std::string& treePath) {
+  // every treelearn export names its skill, robot and controller: a model without them is no skill's model
+  auto inFile = [&](const std::string& key) -> const std::string& {
+    const auto it = policy.metadata.find(key);
+    if (it == policy.metadata.end())
+      throw engine::Error(modelPath + ": metadata key '" + key + "' is missing, so the model cannot be checked " +
+                          "against skill '" + skill.name + "' of " + treePath +
+                          " (treelearn exports every key: train --export-only writes them)");
+    return it->second;
+  };
+  const std::string& name = inFile("treelearn.skill");
+  if (name != skill.name)
+    throw engine::Error(modelPath + ": is the model of skill '" + printable(name) + "', but " + treePath +
+                        " gives it to '" + skill.name + "'");
+  const std::string robotHash = engine::toHex(model.hash);
+  const std::string& trainedOn = inFile("treelearn.robot_hash");
+  if (trainedOn != robotHash)
+    throw engine::Error(modelPath + ": skill '" + skill.name + "' was trained for robot model " + printable(trainedOn) +
+                        ", but " + model.configPath + " is " + robotHash + ": retrain the skill (treelearn train " +
+                        skill.name + ") or restore the robot files");
   const Metadata now = skillMetadata(model, skill, 0, 0);
   for (const char* key : kControllerKeys) {
-    const auto inFile = policy.metadata.find(key);
-    if (inFile == policy.metadata.end()) continue;
+    const std::string& value = inFile(key);
     for (const auto& [k, v] : now)
-      if (k == key && v != inFile->second)
+      if (k == key && v != value)
         throw engine::Error(modelPath + ": skill '" + skill.name + "' was trained with " + key + " = '" +
-                            inFile->second + "' but " + treePath + " now gives '" + v +
+                            printable(value) + "' but " + treePath + " now gives '" + v +
                             "': retrain the skill (treelearn train " + skill.name + ") or restore its tree entry");
   }
 }

@@ -222,6 +222,21 @@ TEST(Onnx, RandomBytesAndTruncatedFilesAreRejected) {
   }
 }
 
+TEST(Onnx, BytesAppendedToAModelAreRefused) {
+  TempDir dir;
+  savePolicyOnnx(dir.file("good.onnx"), randomPolicy({10, 16, 4}, Activation::Elu, 23));
+  const std::string good = engine::readFile(dir.file("good.onnx"));
+  // 'x' is 0x78: the tag of field 15 as a varint, so a tail of x's parses as 512 unknown fields, not as an error
+  engine::writeFileAtomic(dir.file("tail.onnx"), good + std::string(1024, 'x'));
+  try {
+    loadPolicyOnnx(dir.file("tail.onnx"));
+    ADD_FAILURE() << "a model with 1 KiB appended loaded";
+  } catch (const engine::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("tail.onnx: holds data that is no part of an ONNX model"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Onnx, FailedSaveLeavesNoFile) {
   TempDir dir;
   const PolicyExport p = randomPolicy({6, 8, 3}, Activation::Elu, 5);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/core/error.h"
+#include "engine/core/hash.h"
 #include "tests/fixtures.h"
 
 namespace {
@@ -50,11 +51,42 @@ TEST(SkillMetadata, ModelTrainedWithAnotherPriorIsRefused) {
       engine::Error);
 }
 
-TEST(SkillMetadata, OlderFilesWithoutAKeyAreNotComparedOnIt) {
+// the message a check throws, "" if it passes
+std::string refusal(const ai::LoadedPolicy& p, const robot::SkillDef& skill, const robot::RobotModel& model) {
+  try {
+    ai::checkModelMatchesSkill(p, "walk.onnx", model, skill, "tree.toml");
+  } catch (const engine::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SkillMetadata, AModelWithoutAnIdentifyingKeyIsRefusedNamingTheKey) {
   Fixture f;
-  ai::LoadedPolicy p = f.policyFor(f.walk);
-  p.metadata.erase("treelearn.action_filter");
-  EXPECT_NO_THROW(ai::checkModelMatchesSkill(p, "walk.onnx", fixtures::robotModel(), f.walk, "tree.toml"));
+  for (const char* key : {"treelearn.skill", "treelearn.robot_hash", "treelearn.action_filter", "treelearn.kp"}) {
+    ai::LoadedPolicy p = f.policyFor(f.walk);
+    p.metadata.erase(key);
+    const std::string m = refusal(p, f.walk, fixtures::robotModel());
+    EXPECT_NE(m.find(std::string("walk.onnx: metadata key '") + key + "' is missing"), std::string::npos) << m;
+  }
+  // all metadata stripped
+  EXPECT_NE(refusal(ai::LoadedPolicy{}, f.walk, fixtures::robotModel()).find("is missing"), std::string::npos);
+}
+
+TEST(SkillMetadata, AnotherSkillsModelIsRefused) {
+  Fixture f;
+  const std::string m = refusal(f.policyFor(*f.tree.find("run")), f.walk, fixtures::robotModel());
+  EXPECT_NE(m.find("walk.onnx: is the model of skill 'run', but tree.toml gives it to 'walk'"), std::string::npos) << m;
+}
+
+TEST(SkillMetadata, AModelOfAnotherRobotIsRefused) {
+  Fixture f;
+  robot::RobotModel other = fixtures::robotModel();
+  other.hash ^= 1;  // another URDF or robot file
+  const std::string m = refusal(f.policyFor(f.walk), f.walk, other);
+  EXPECT_NE(m.find("walk.onnx: skill 'walk' was trained for robot model " + engine::toHex(fixtures::robotModel().hash)),
+            std::string::npos)
+      << m;
 }
 
 }  // namespace
