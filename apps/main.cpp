@@ -309,6 +309,20 @@ struct ReplayArgs {
   OutputOptions out;
 };
 
+// a replay's level as named when it was recorded (relative to the folder play ran in): from this folder; else from
+// the closest folder above the replay file that holds it (a replay kept inside the tree it was recorded in); else in
+// the source tree this binary was built from. The level's hash is checked after, so a wrong find is refused.
+std::string replayLevelPath(const std::string& replayFile, const std::string& level) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::path(level).is_absolute() || fs::exists(level, ec)) return level;
+  for (fs::path dir = fs::absolute(replayFile, ec).parent_path(); !ec && !dir.empty(); dir = dir.parent_path()) {
+    if (fs::exists(dir / level, ec)) return (dir / level).string();
+    if (dir == dir.root_path()) break;
+  }
+  return engine::projectFile(level);
+}
+
 int cmdReplay(const ReplayArgs& a) {
   const engine::Replay replay = engine::loadReplay(a.file);
   if (!a.keysOut.empty()) {  // before the checks below: the keys of a run stay readable after its models change
@@ -320,7 +334,7 @@ int cmdReplay(const ReplayArgs& a) {
                 static_cast<unsigned long long>(replay.seed));
   }
   makeParentDirectory(a.out.videoPath);
-  const levels::Level level = levels::loadLevel(replay.level);
+  const levels::Level level = levels::loadLevel(replayLevelPath(a.file, replay.level));
   const robot::RobotModel model = robot::loadRobotModel(robot::defaultRobotConfigPath());
   if (level.hash != replay.levelHash)
     throw engine::Error(a.file + ": level '" + replay.level + "' has changed since recording (hash " +

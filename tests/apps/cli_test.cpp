@@ -305,6 +305,25 @@ TEST(Cli, RecordedReplayVerifiesIdentical) {
   EXPECT_NE(ver.out.find("identical: 8 state hashes over 400 ticks match"), std::string::npos) << ver.out;
 }
 
+TEST(Cli, AReplayFindsItsLevelWhenReplayedFromAnotherFolder) {
+  // the replay names its level as typed ("levels/flat", relative to where play ran)
+  const std::string d = tempDir("replay_elsewhere");
+  ASSERT_EQ(run("play levels/flat --seconds 1 --record " + d + "/run.replay").code, 0);
+  const CliRun here = shell("cd " + d + " && " + TREELEARN_BINARY + " replay run.replay --verify");
+  EXPECT_EQ(here.code, 0) << here.out;
+  EXPECT_NE(here.out.find("identical"), std::string::npos) << here.out;
+  // a level of one's own, recorded from its project folder, with the replay kept inside that folder
+  std::filesystem::create_directories(d + "/mine/levels/open");
+  std::filesystem::copy_file(kSource + "/levels/flat/level.toml", d + "/mine/levels/open/level.toml");
+  const CliRun rec = shell("cd " + d + "/mine && " + TREELEARN_BINARY +
+                           " play levels/open --seconds 1 --record levels/open/run.replay");
+  ASSERT_EQ(rec.code, 0) << rec.out;
+  const CliRun away =
+      shell("cd / && " + std::string(TREELEARN_BINARY) + " replay " + d + "/mine/levels/open/run.replay --verify");
+  EXPECT_EQ(away.code, 0) << away.out;
+  EXPECT_NE(away.out.find("identical"), std::string::npos) << away.out;
+}
+
 TEST(Cli, AReplaysKeysWrittenOutPlayTheSameRunAgain) {
   // replay --keys-out: the recorded events and seed as a key script; played, it records the same replay byte for byte
   const std::string d = tempDir("keysout");
