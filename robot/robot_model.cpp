@@ -58,6 +58,15 @@ struct XmlIndex {
   std::map<std::string, double> armature;
 };
 
+// the line of a link or joint urdfdom found; one it names that the index lacks is an error in the file, never a crash
+int lineOf(const std::map<std::string, int>& lines, const std::string& name, const std::string& file,
+           const char* what) {
+  const auto it = lines.find(name);
+  if (it == lines.end())
+    throw Error(located(file, 0, std::string("<") + what + "> '" + name + "' is not found again by its name"));
+  return it->second;
+}
+
 XmlIndex indexXml(const std::string& text, const std::string& file) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS)
@@ -65,11 +74,24 @@ XmlIndex indexXml(const std::string& text, const std::string& file) {
   const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
   if (!robot) throw Error(located(file, 1, "no <robot> element"));
   XmlIndex index;
+  // names are printable ASCII: urdfdom reads the file with another XML parser, which keeps a carriage return or
+  // writes a Latin-1 character reference as one byte where tinyxml2 does not, so such a name would not be found again
+  auto checkName = [&](const char* n, const tinyxml2::XMLElement* e, const char* what) {
+    for (const char* c = n; *c; ++c)
+      if (static_cast<unsigned char>(*c) < 0x20 || static_cast<unsigned char>(*c) >= 0x7f)
+        throw Error(located(
+            file, e->GetLineNum(),
+            std::string("<") + what + "> name holds a control or non-ASCII character: names are " + "printable ASCII"));
+  };
   for (auto* e = robot->FirstChildElement("link"); e; e = e->NextSiblingElement("link"))
-    if (const char* n = e->Attribute("name")) index.linkLine[n] = e->GetLineNum();
+    if (const char* n = e->Attribute("name")) {
+      checkName(n, e, "link");
+      index.linkLine[n] = e->GetLineNum();
+    }
   for (auto* e = robot->FirstChildElement("joint"); e; e = e->NextSiblingElement("joint")) {
     const char* n = e->Attribute("name");
     if (!n) throw Error(located(file, e->GetLineNum(), "<joint> without a name"));
+    checkName(n, e, "joint");
     index.jointLine[n] = e->GetLineNum();
     if (auto* a = e->FirstChildElement("armature")) {
       double v = 0;
@@ -164,7 +186,7 @@ void parseG1Urdf(const std::string& text, const std::string& file, RobotModel* m
     throw Error(located(
         file, 0, "expected " + std::to_string(kNumJoints) + " joints, found " + std::to_string(urdf->joints_.size())));
 
-  model->articulation.base = convertLink(*root, file, index.linkLine.at(root->name));
+  model->articulation.base = convertLink(*root, file, lineOf(index.linkLine, root->name, file, "link"));
   model->articulation.links.clear();
   model->joints.assign(kNumJoints, JointInfo{});
   std::map<std::string, int> linkIndex{{root->name, -1}};
@@ -172,13 +194,13 @@ void parseG1Urdf(const std::string& text, const std::string& file, RobotModel* m
     const std::string name = kJointNames[static_cast<size_t>(j)];
     const urdf::JointConstSharedPtr joint = urdf->getJoint(name);
     if (!joint) throw Error(located(file, 0, "missing joint '" + name + "' (the G1 needs all 23 joints by name)"));
-    const int line = index.jointLine.at(name);
+    const int line = lineOf(index.jointLine, name, file, "joint");
     if (!linkIndex.count(joint->parent_link_name))
       throw Error(located(file, line,
                           "joint '" + name + "': parent link '" + joint->parent_link_name +
                               "' must be driven by an earlier joint in the G1 order"));
     const urdf::LinkConstSharedPtr child = urdf->getLink(joint->child_link_name);
-    engine::LinkDef def = convertLink(*child, file, index.linkLine.at(child->name));
+    engine::LinkDef def = convertLink(*child, file, lineOf(index.linkLine, child->name, file, "link"));
     def.parent = linkIndex.at(joint->parent_link_name);
     def.joint = name;
     def.jointFrame = toIsometry(joint->parent_to_joint_origin_transform);
