@@ -1,6 +1,8 @@
 // entry_state.cpp — see entry_state.h.
 #include "robot/entry_state.h"
 
+#include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -216,9 +218,13 @@ std::vector<EntryState> parseEntries(const std::string& text, const std::string&
     } else if (k == "seed") {
       r.expectCount(1);
       char* end = nullptr;
+      errno = 0;  // strtoull saturates at 2^64 - 1 and says so only through errno
       const unsigned long long v = std::strtoull(line.words[0].c_str(), &end, 10);
-      if (line.words[0][0] == '-' || end != line.words[0].c_str() + line.words[0].size())
+      if (!std::isdigit(static_cast<unsigned char>(line.words[0][0])) ||
+          end != line.words[0].c_str() + line.words[0].size())
         r.fail("'" + line.words[0] + "' is not a seed (a whole number >= 0)");
+      if (errno == ERANGE)
+        r.fail("'" + line.words[0] + "' is larger than the largest seed, 18446744073709551615 (2^64 - 1)");
       e->seed = v;
     } else if (k == "tick") {
       r.expectCount(1);

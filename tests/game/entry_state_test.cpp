@@ -135,6 +135,13 @@ TEST(EntryFile, BrokenEntriesAreRefusedAtTheirLine) {
   EXPECT_NE(errorOf(replaced("up R", "up Z")).find("'Z' is not a key"), std::string::npos);
   EXPECT_NE(errorOf(replaced("end\n", "")).find("has no 'end'"), std::string::npos);
   EXPECT_NE(errorOf(replaced("  tick ", "  tick 5\n  tick ")).find("given twice"), std::string::npos);
+  // a seed past 2^64 - 1 was read as 2^64 - 1 (strtoull saturates), and "+7" as 7
+  EXPECT_NE(errorOf(replaced("  seed 7\n", "  seed 99999999999999999999999\n"))
+                .find(":" + std::to_string(lineOf("seed")) +
+                      ": seed: '99999999999999999999999' is larger than the largest seed"),
+            std::string::npos);
+  EXPECT_NE(errorOf(replaced("  seed 7\n", "  seed +7\n")).find("'+7' is not a seed"), std::string::npos);
+  EXPECT_EQ(errorOf(replaced("  seed 7\n", "  seed 18446744073709551615\n")), "(no error)");
 }
 
 TEST(EntryState, ARestoredEntryGoesOnAsTheRecordedRunDid) {
