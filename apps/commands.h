@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -96,8 +97,9 @@ struct SwitchEvalOptions {
 int runSwitchEval(const SwitchEvalOptions& options);
 
 /// Every skill of the tree whose ONNX model exists, loaded once (models checked against their tree entries);
-/// the set's hash covers the tree file and the models.
-robot::SkillSet loadSkills(const robot::RobotModel& model);
+/// the set's hash covers the tree file and the models. `models` gives other files for some skills (skill name ->
+/// ONNX path), in place of the tree folder's.
+robot::SkillSet loadSkills(const robot::RobotModel& model, const std::map<std::string, std::string>& models = {});
 
 int runTrain(const TrainOptions& options);
 /// `treelearn experiment compare` options (apps/experiment.cpp).
@@ -108,6 +110,7 @@ struct ExperimentOptions {
   int threads = 2;
   int rewardEnvs = 20, rewardRollouts = 2;  ///< the rewards measure (ai::measureRewards)
   int cardEpisodes = 0;                     ///< 0: each card's own count
+  int switchTrials = 10;                    ///< trials per switch of the tree arm's switch matrix
 };
 /// Trains the arms that are not done yet (resuming the ones begun) and measures every final policy into
 /// OUT/results.csv.

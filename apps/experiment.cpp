@@ -24,6 +24,8 @@
 #include "apps/commands.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "game/switch_matrix.h"
+#include "levels/level.h"
 
 namespace apps {
 namespace {
@@ -35,6 +37,8 @@ constexpr const char* kResultsHeader =
 // after stage N of the paper's order (walk, run, squat, jump, crawl, one_leg), the card of a skill learnt so far:
 // on the sequential arm's one network (forgetting) or on the tree's own model of the skill (retention)
 constexpr const char* kMatricesHeader = "arm,seed,stage,skill,stage_skill,card_score,card_pass\n";
+// the tree arm's switch matrix: every allowed switch into or out of one of the six, on levels/flat as `eval switches`
+constexpr const char* kSwitchesHeader = "arm,seed,from,to,trials,success_percent,worst_latency_ticks\n";
 
 // the multi-task arms: from scratch at 1x and 6x the paper's steps in all, and from the walk's weights at 1x
 const std::vector<std::string>& multiTaskArms() {
@@ -103,9 +107,11 @@ int runExperimentCompare(const ExperimentOptions& o) {
   const std::vector<std::string>& skills = ai::paperComparisonSkills();
   const int64_t budget = std::max<int64_t>(1, std::llround(1e7 * o.stepsScale));  // per skill
   engine::makeDirectories(o.out);
-  const std::string resultsPath = o.out + "/results.csv", matrixPath = o.out + "/matrices.csv";
+  const std::string resultsPath = o.out + "/results.csv", matrixPath = o.out + "/matrices.csv",
+                    switchesPath = o.out + "/switches.csv";
   std::map<std::string, std::string> results = readRows(resultsPath, kResultsHeader, 3);
   std::map<std::string, std::string> matrices = readRows(matrixPath, kMatricesHeader, 4);
+  std::map<std::string, std::string> switches = readRows(switchesPath, kSwitchesHeader, 4);
   std::printf("the comparison in %s: %lld steps per skill (--steps-scale %g), seeds 1-%d\n", o.out.c_str(),
               (long long)budget, o.stepsScale, o.seeds);
   // each skill's tree entry and robot, read once (a context's skill points into its own tree: moved, never copied)
@@ -245,9 +251,36 @@ int runExperimentCompare(const ExperimentOptions& o) {
         }
       }
     }
+    // the tree arm's switch matrix: its six models in place of the shipped ones (the other skills' shipped models
+    // drive the rest of a trial, such as prone before the crawl); measured at once, so one row stands for all
+    const std::string seedKey = "tree," + std::to_string(seed) + ",";
+    const auto have = switches.lower_bound(seedKey);
+    if (have == switches.end() || have->first.compare(0, seedKey.size(), seedKey) != 0) {
+      std::map<std::string, std::string> models;
+      for (const std::string& skill : skills)
+        models[skill] = ai::exportedModelPath(treeRun(skill), *context(skill).skill);
+      const robot::SkillSet set = loadSkills(root.model, models);
+      game::SwitchMatrixOptions so;
+      so.trials = o.switchTrials;
+      so.seed = uint64_t(seed);
+      so.threads = o.threads;
+      so.anyOf = skills;
+      const game::SwitchMatrix sm =
+          game::runSwitchMatrix(levels::loadLevel(engine::projectFile("levels/flat")), root.model, set, so);
+      for (const game::SwitchRow& row : sm.rows) {
+        double latency = 0;
+        for (const game::SwitchTrial& t : row.trials) latency = std::max(latency, t.switched ? t.latencyTicks : 0.0);
+        const std::string key = seedKey + row.from->def.name + "," + row.to->def.name;
+        switches[key] =
+            key + "," + std::to_string(row.trials.size()) + "," + fmt(row.successPercent()) + "," + fmt(latency);
+        std::printf("tree arm, seed %d: switch %s -> %s %3.0f %% of %zu trials\n", seed, row.from->def.name.c_str(),
+                    row.to->def.name.c_str(), row.successPercent(), row.trials.size());
+      }
+      writeRows(switchesPath, kSwitchesHeader, switches);
+    }
   }
-  std::printf("results: %s and %s; figures: python3 scripts/compare_figures.py %s\n", resultsPath.c_str(),
-              matrixPath.c_str(), o.out.c_str());
+  std::printf("results: %s, %s and %s; figures: python3 scripts/compare_figures.py %s\n", resultsPath.c_str(),
+              matrixPath.c_str(), switchesPath.c_str(), o.out.c_str());
   return 0;
 }
 

@@ -642,8 +642,9 @@ int main(int argc, char** argv) {
       "from its parent's shipped weights, the walk from scratch), one network trained on the six in turn (the "
       "sequential arm), and one multi-task network from scratch at the same steps in all and at the tree's total, "
       "and from the walk's weights; each final policy's rewards in its skill's training episodes and its card into "
-      "OUT/results.csv, and after each stage the cards of the skills learnt so far into OUT/matrices.csv "
-      "(forgetting and retention). Given again, it goes on where it stopped");
+      "OUT/results.csv, after each stage the cards of the skills learnt so far into OUT/matrices.csv "
+      "(forgetting and retention), and the tree arm's switch matrix into OUT/switches.csv. Given again, it goes on "
+      "where it stopped");
   compareCmd->add_option("--out", experiment.out, "Output folder (default runs/compare)");
   compareCmd
       ->add_option("--steps-scale", experiment.stepsScale,
@@ -659,6 +660,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100));
   compareCmd->add_option("--card-episodes", experiment.cardEpisodes, "Episodes of each card (default: the card's own)")
       ->check(CLI::Range(1, 10000));
+  compareCmd
+      ->add_option("--switch-trials", experiment.switchTrials,
+                   "Trials of each switch in the tree arm's switch matrix (default 10, as eval switches)")
+      ->check(CLI::Range(1, 1000));
 
   apps::ShipOptions ship;
   CLI::App* shipCmd = app.add_subcommand(

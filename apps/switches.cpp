@@ -17,7 +17,7 @@
 
 namespace apps {
 
-robot::SkillSet loadSkills(const robot::RobotModel& model) {
+robot::SkillSet loadSkills(const robot::RobotModel& model, const std::map<std::string, std::string>& models) {
   robot::SkillSet set;
   ai::loadTrainingTree(robot::defaultSkillTreePath(), model);  // the whole file is checked, not only what play reads
   const robot::SkillTree tree = robot::loadSkillTree(robot::defaultSkillTreePath(), model);
@@ -25,7 +25,8 @@ robot::SkillSet loadSkills(const robot::RobotModel& model) {
   const std::string treeText = engine::readFile(tree.path);
   h.bytes(treeText.data(), treeText.size());
   for (const robot::SkillDef& def : tree.skills) {
-    const std::string path = tree.directory + "/" + def.model;
+    const auto given = models.find(def.name);
+    const std::string path = given != models.end() ? given->second : tree.directory + "/" + def.model;
     if (!std::filesystem::exists(path)) {
       set.missing.push_back({def.name, def.key, path});
       continue;

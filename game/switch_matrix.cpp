@@ -151,7 +151,11 @@ SwitchMatrix runSwitchMatrix(const levels::Level& level, const robot::RobotModel
     throw engine::Error("eval switches: no two connected skills have models yet (loaded: " +
                         std::to_string(skills.skills.size()) + "); train a branch first");
   auto selected = [&](const auto& pr) {
-    return o.only.empty() || pr.first->def.name == o.only || pr.second->def.name == o.only;
+    auto among = [&](const std::string& name) {
+      return o.anyOf.empty() || std::find(o.anyOf.begin(), o.anyOf.end(), name) != o.anyOf.end();
+    };
+    return (o.only.empty() || pr.first->def.name == o.only || pr.second->def.name == o.only) &&
+           (among(pr.first->def.name) || among(pr.second->def.name));
   };
   if (!o.only.empty()) {
     if (!skills.byName(o.only))

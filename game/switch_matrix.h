@@ -43,7 +43,8 @@ struct SwitchMatrixOptions {
   int trials = 10;  ///< per ordered pair
   uint64_t seed = 1;
   int threads = 2;
-  std::string only;  ///< only the switches into or out of this skill (each trial as in the full run)
+  std::string only;                ///< only the switches into or out of this skill (each trial as in the full run)
+  std::vector<std::string> anyOf;  ///< if given, only the switches into or out of one of these skills
 };
 
 /// One row of the matrix: a switch and its trials.

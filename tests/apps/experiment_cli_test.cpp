@@ -22,7 +22,8 @@ const char* kSkills[] = {"walk", "run", "squat", "jump", "crawl", "one_leg"};
 TEST(ExperimentCli, ASmokeComparisonWritesEveryArmsRunResultsAndFiguresAndResumesToNothingLeft) {
   const std::string dir = cli::tempDir("experiment", "smoke");
   const std::string args =
-      "experiment compare --out " + dir + " --steps-scale 0.001 --reward-envs 2 --reward-rollouts 1 --card-episodes 1";
+      "experiment compare --out " + dir +
+      " --steps-scale 0.001 --reward-envs 2 --reward-rollouts 1 --card-episodes 1 --switch-trials 1";
   const CliRun first = run(args);
   ASSERT_EQ(first.code, 0) << first.out;
   for (const char* skill : kSkills) {
@@ -67,6 +68,12 @@ TEST(ExperimentCli, ASmokeComparisonWritesEveryArmsRunResultsAndFiguresAndResume
   EXPECT_EQ(row("tree,1,6,walk").substr(row("tree,1,6,walk").find(',')),
             row("tree,1,1,walk").substr(row("tree,1,1,walk").find(',')));  // retention: the same card
   EXPECT_EQ(row("sequential,1,6,one_leg").rfind("one_leg,", 0), 0u);
+  // the tree arm's switch matrix: the switches into or out of the six, one trial each here; none between two others
+  const std::string switches = engine::readFile(dir + "/switches.csv");
+  EXPECT_EQ(switches.rfind("arm,seed,from,to,trials,success_percent,worst_latency_ticks\n", 0), 0u) << switches;
+  for (const char* pair : {"walk,run", "run,walk", "squat,jump", "jump,squat", "prone,crawl", "walk,one_leg"})
+    EXPECT_NE(switches.find(std::string("\ntree,1,") + pair + ",1,"), std::string::npos) << pair << "\n" << switches;
+  EXPECT_EQ(switches.find("tree,1,prone,pushup,"), std::string::npos) << switches;
   // given again: every run is done and every row there, so nothing is trained or measured again
   const CliRun again = run(args);
   ASSERT_EQ(again.code, 0) << again.out;
@@ -74,6 +81,7 @@ TEST(ExperimentCli, ASmokeComparisonWritesEveryArmsRunResultsAndFiguresAndResume
   EXPECT_NE(again.out.find("tree arm, one_leg, seed 1: done"), std::string::npos) << again.out;
   EXPECT_EQ(engine::readFile(dir + "/results.csv"), results);
   EXPECT_EQ(engine::readFile(dir + "/matrices.csv"), matrices);
+  EXPECT_EQ(engine::readFile(dir + "/switches.csv"), switches);
   // the figures
   const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   if (shell(python + " -c 'import matplotlib'").code != 0)
