@@ -46,7 +46,7 @@ int runSwitchEval(const SwitchEvalOptions& o) {
   const robot::RobotModel model = robot::loadRobotModel(engine::projectFile("assets/robots/g1_23dof.toml"));
   const robot::SkillSet skills = loadSkills(model);
   const levels::Level level = levels::loadLevel(engine::projectFile("levels/flat"));
-  const game::SwitchMatrix m = game::runSwitchMatrix(level, model, skills, {o.trials, o.seed, o.threads, o.only});
+  const game::SwitchMatrix m = game::runSwitchMatrix(level, model, skills, {o.trials, o.seed, o.threads, o.only, {}});
   std::printf(
       "switch report: %zu allowed switches%s x %d trials on levels/flat (random moment 2-4 s, from lying 3-5 s, "
       "out of a stand-up 1-4 s into it; random movement keys before and after; success = switched within %.0f s "
