@@ -16,6 +16,13 @@
 #include "engine/core/hash.h"
 
 namespace ai {
+std::string printable(const std::string& s) {
+  std::string out;
+  for (size_t i = 0; i < s.size() && i < 48; ++i) out += (s[i] >= 32 && s[i] < 127) ? s[i] : '?';
+  if (s.size() > 48) out += "...";
+  return out;
+}
+
 namespace {
 
 constexpr int64_t kIrVersion = 8;
@@ -25,14 +32,6 @@ const char* const kOutputName = "action";
 
 [[noreturn]] void fail(const std::string& path, const std::string& message) {
   throw engine::Error(engine::located(path, 0, message));
-}
-
-// a name or op type from the file, made safe to print: at most 48 characters, non-printables as '?'
-std::string printable(const std::string& s) {
-  std::string out;
-  for (size_t i = 0; i < s.size() && i < 48; ++i) out += (s[i] >= 32 && s[i] < 127) ? s[i] : '?';
-  if (s.size() > 48) out += "...";
-  return out;
 }
 
 std::string firstLine(const std::string& s) { return printable(s.substr(0, s.find('\n'))); }

@@ -54,4 +54,7 @@ LoadedPolicy loadPolicyOnnx(const std::string& path);
 /// Throws engine::Error if the file cannot be read.
 uint64_t onnxFileHash(const std::string& path);
 
+/// A name or value read from a model file, made safe to print: at most 48 characters, non-printables as '?'.
+std::string printable(const std::string& s);
+
 }  // namespace ai

@@ -17,13 +17,6 @@ std::string joinNumbers(const double* v, size_t n) {
   return s.str();
 }
 
-// a metadata value as it may be printed: control bytes shown as '?', long values cut
-std::string printable(const std::string& v) {
-  std::string out;
-  for (char c : v.substr(0, 200)) out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? '?' : c;
-  return v.size() > 200 ? out + "..." : out;
-}
-
 // the keys that define how a policy's output becomes joint torques; a mismatch means a different controller
 const char* const kControllerKeys[] = {
     "treelearn.layout_version",
