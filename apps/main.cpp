@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "ai/dist/comm.h"
 #include "ai/onnx/policy_onnx.h"
 #include "ai/onnx/skill_metadata.h"
 #include "apps/commands.h"
@@ -726,7 +727,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : kExitBadInput;
   }
+  const ai::dist::Comm* comm = nullptr;  // the ranks, under mpirun
   try {
+    comm = &ai::dist::world();
+    if (comm->size() > 1 && !(*trainCmd && !train.exportOnly) && !*multitaskCmd)
+      throw engine::Error("under mpirun only train and multitask run across ranks (" + std::to_string(comm->size()) +
+                          " started): run this command without mpirun");
     robot::setSkillTreePath(treeFile);
     play.seedGiven = playCmd->count("--seed") > 0;
     if (*playCmd) return cmdPlay(play);
@@ -765,10 +771,13 @@ int main(int argc, char** argv) {
     if (*evalCmd && eval.skill == "all") return apps::runEvalAll(eval);
     if (*evalCmd) return apps::runEval(eval);
     if (*treeCmd) return apps::runTree();
-  } catch (const engine::Error& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitBadInput;
   } catch (const std::exception& e) {
+    // under mpirun a rank that fails alone would leave the others waiting in a collective: it ends them all
+    if (comm && comm->size() > 1) {
+      std::fprintf(stderr, "error (rank %d of %d): %s\n", comm->rank(), comm->size(), e.what());
+      std::fflush(stderr);
+      comm->abort(kExitBadInput);
+    }
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitBadInput;
   }

@@ -66,7 +66,7 @@ int runTrain(const TrainOptions& o) {
     std::signal(SIGINT, t ? onSigint : SIG_DFL);
   });
   if (r.stopped) return 130;  // stopped by Ctrl-C (128 + SIGINT, as a shell reports it)
-  if (o.resume && r.iterationsRun == 0)
+  if (o.resume && r.iterationsRun == 0 && ai::dist::world().isRoot())
     std::fprintf(stderr,
                  "note: the checkpoint in %s is already at %lld env steps (iteration %lld), at or past --steps %lld: "
                  "nothing was trained; give a larger --steps to go on\n",

@@ -23,10 +23,18 @@ MultiTaskEnv::MultiTaskEnv(std::vector<Task> tasks) : tasks_(std::move(tasks)) {
     }
     begin_.push_back(numEnvs_);
     numEnvs_ += t.env->numEnvs();
+    globalBegin_.push_back(globalEnvs_);
+    globalEnvs_ += t.env->globalEnvs();
     termBegin_.push_back(termCount_);
     termCount_ += t.env->rewardTermNames().size();
   }
   stats_.resize(tasks_.size());
+}
+
+int MultiTaskEnv::globalColumn(int n) const {
+  size_t k = 0;
+  while (k + 1 < begin_.size() && n >= begin_[k + 1]) ++k;
+  return globalBegin_[k] + tasks_[k].env->globalColumn(n - begin_[k]);
 }
 
 std::vector<std::string> MultiTaskEnv::rewardTermNames() const {

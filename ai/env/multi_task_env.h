@@ -32,6 +32,10 @@ class MultiTaskEnv final : public VecEnv {
   explicit MultiTaskEnv(std::vector<Task> tasks);
 
   int numEnvs() const override { return numEnvs_; }
+  /// Under mpirun each task's environments are shared by the ranks: the run's columns are the tasks' run environments
+  /// one after another, as one process holds them.
+  int globalEnvs() const override { return globalEnvs_; }
+  int globalColumn(int n) const override;
   int observationSize() const override { return taskObservationSize() + taskCount(); }
   int actionSize() const override { return actionSize_; }
   /// Every task's terms as "task/term".
@@ -61,7 +65,8 @@ class MultiTaskEnv final : public VecEnv {
   std::vector<Task> tasks_;
   std::vector<int> begin_;
   std::vector<size_t> termBegin_;  // each task's first index in rewardTermSums
-  int numEnvs_ = 0, taskObservationSize_ = 0, actionSize_ = 0;
+  std::vector<int> globalBegin_;   // each task's first column in the run
+  int numEnvs_ = 0, globalEnvs_ = 0, taskObservationSize_ = 0, actionSize_ = 0;
   size_t termCount_ = 0;
   std::vector<TaskStats> stats_;
   StepResult part_;  // one task's step, reused

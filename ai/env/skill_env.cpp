@@ -444,6 +444,7 @@ void SkillEnv::observe(const Env& e, float* out) const {
 void SkillEnv::reset(uint64_t seed, Eigen::MatrixXf* observations) {
   observations->resize(robot::kObservationSize, numEnvs());
   std::mt19937_64 seeder(seed);
+  seeder.discard(uint64_t(options_.firstEnv));  // a rank's share: the run's environment n takes the seeder's n-th draw
   for (auto& e : envs_) e->rng.seed(seeder());
   finished_.clear();
   rolloutSteps_ = 0;
@@ -579,7 +580,7 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
       result->episodeLengths.push_back(e.finishedLength);
       // the curriculum's record, in environment order so that it does not depend on threads
       if (lessonCount() > 1) {
-        finished_.push_back({e.finishedReturn, e.startStep});
+        finished_.push_back({e.finishedReturn, e.startStep, rolloutSteps_, options_.firstEnv + i});
         e.startStep = rolloutSteps_ + 1;  // the fresh episode's first step is the next one
       }
     }
@@ -591,8 +592,25 @@ void SkillEnv::step(const Eigen::MatrixXf& actions, StepResult* result) {
 void SkillEnv::endRollout() {
   if (lessonCount() <= 1) return;
   // the episodes still running were cut by the rollout's end: they count for what they played
-  for (const auto& e : envs_)
-    if (e->tick > 0) finished_.push_back({e->episodeReturn, e->startStep});
+  for (int i = 0; i < numEnvs(); ++i)
+    if (envs_[size_t(i)]->tick > 0)
+      finished_.push_back(
+          {envs_[size_t(i)]->episodeReturn, envs_[size_t(i)]->startStep, rolloutSteps_, options_.firstEnv + i});
+  // under mpirun, every rank's episodes in the order one process records them (by step, then environment): every
+  // rank's curriculum takes the same measure
+  if (options_.comm && options_.comm->size() > 1) {
+    std::string mine(finished_.size() * sizeof(Finished), '\0');
+    if (!finished_.empty()) std::memcpy(mine.data(), finished_.data(), mine.size());
+    finished_.clear();
+    for (const std::string& bytes : options_.comm->gather(mine)) {
+      const size_t at = finished_.size(), count = bytes.size() / sizeof(Finished);
+      finished_.resize(at + count);
+      if (count > 0) std::memcpy(&finished_[at], bytes.data(), count * sizeof(Finished));
+    }
+    std::stable_sort(finished_.begin(), finished_.end(), [](const Finished& a, const Finished& b) {
+      return a.endStep != b.endStep ? a.endStep < b.endStep : a.env < b.env;
+    });
+  }
   const int maxTicks = int(std::lround(skill_.termination.episodeSeconds / engine::kTickSeconds));
   const int minTicks = std::min(maxTicks, int(std::lround(1.0 / engine::kTickSeconds)));
   bool advance = false;
@@ -604,7 +622,7 @@ void SkillEnv::endRollout() {
     // episodes per environment (two rollouts' worth)
     smoothed_ = 0.98 * smoothed_ + 0.02 * (f.episodeReturn / double(possible));
     ++lessonEpisodes_;
-    advance = advance || (curriculumScore() > advanceAt() && lessonEpisodes_ >= 2 * numEnvs());
+    advance = advance || (curriculumScore() > advanceAt() && lessonEpisodes_ >= 2 * globalEnvs());
   }
   finished_.clear();
   if (advance) {  // the next rollout trains the next lesson

@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "ai/dist/comm.h"
 #include "ai/env/vec_env.h"
 #include "ai/rewards/reward_terms.h"
 #include "ai/tree/training_tree.h"
@@ -55,6 +56,12 @@ bool runHandover(const robot::RobotModel& nominal, const robot::RobotModel& actu
 
 struct SkillEnvOptions {
   int numEnvs = 20;
+  /// Under mpirun, this rank's share of the run's environments (dist::envShare): the run's environments
+  /// [firstEnv, firstEnv + numEnvs) of runEnvs (0: numEnvs), each seeded as one process seeds it, and the ranks
+  /// (the curriculum measures every rank's episodes). One process: the defaults.
+  int firstEnv = 0;
+  int runEnvs = 0;
+  const dist::Comm* comm = nullptr;
   int threads = 2;
   bool randomise = true;  ///< friction, added mass and pushes as the skill says (off = nominal robot, no pushes)
   /// handover episodes (the skill's training.handover > 0): the parent's tree entry and its deterministic policy
@@ -86,6 +93,8 @@ class SkillEnv final : public VecEnv {
   ~SkillEnv() override;
 
   int numEnvs() const override { return int(envs_.size()); }
+  int globalEnvs() const override { return options_.runEnvs > 0 ? options_.runEnvs : numEnvs(); }
+  int globalColumn(int n) const override { return options_.firstEnv + n; }
   int observationSize() const override { return robot::kObservationSize; }
   int actionSize() const override { return robot::kActionSize; }
   std::vector<std::string> rewardTermNames() const override;
@@ -154,6 +163,8 @@ class SkillEnv final : public VecEnv {
   struct Finished {         // an episode of the current rollout, for the curriculum
     double episodeReturn;
     int startStep;  // rollout step it began at
+    int endStep;    // rollout step it ended at (the rollout's steps: cut by the rollout's end)
+    int env;        // the run's environment
   };
   std::vector<Finished> finished_;  // in environment order per step
   int rolloutSteps_ = 0;            // steps since the last reset()

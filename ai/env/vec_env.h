@@ -43,6 +43,11 @@ class VecEnv {
   /// (RNG states, episode counters, curricula; the physics state is re-created by reset semantics).
   virtual std::string saveState() const { return {}; }
   virtual void loadState(const std::string& bytes) { (void)bytes; }
+  /// Under mpirun (ai/dist/comm.h) each rank steps a share of the run's environments: how many the run has in all,
+  /// and the column that this rank's environment n has in the run (the order one process steps them in). A single
+  /// process: numEnvs() and n.
+  virtual int globalEnvs() const { return numEnvs(); }
+  virtual int globalColumn(int n) const { return n; }
   /// The curriculum's current lesson (0 = first, or no curriculum), logged with every iteration.
   virtual int curriculumLesson() const { return 0; }
   /// A short human-readable note on the curriculum for progress lines ("" when there is none).

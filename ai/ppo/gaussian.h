@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <vector>
 
 namespace ai {
 
@@ -54,6 +55,18 @@ inline void sampleGaussian(std::mt19937_64* rng, const Eigen::MatrixXf& mean, co
                            Eigen::MatrixXf* actions) {
   actions->resize(mean.rows(), mean.cols());
   fillStandardNormal(rng, actions);
+  actions->array() = (actions->array().colwise() * logStd.array().exp()) + mean.array();
+}
+
+/// sampleGaussian for some columns of a larger batch: draws the noise of all `total` columns (as one process stepping
+/// them all would) and keeps column columns[n] for mean's column n. Every rank of a run draws the same stream.
+inline void sampleGaussianColumns(std::mt19937_64* rng, const Eigen::MatrixXf& mean, const Eigen::VectorXf& logStd,
+                                  const std::vector<int>& columns, int total, Eigen::MatrixXf* noise,
+                                  Eigen::MatrixXf* actions) {
+  noise->resize(mean.rows(), total);
+  fillStandardNormal(rng, noise);
+  actions->resize(mean.rows(), mean.cols());
+  for (Eigen::Index n = 0; n < mean.cols(); ++n) actions->col(n) = noise->col(columns[size_t(n)]);
   actions->array() = (actions->array().colwise() * logStd.array().exp()) + mean.array();
 }
 

@@ -78,17 +78,20 @@ PpoUpdater::PpoUpdater(const PpoConfig& config) : config_(config) {}
 PpoStats PpoUpdater::update(const RolloutBuffer& buffer, const PpoCoefficients& coefficients, std::mt19937_64* rng,
                             PolicyState* policy) {
   PpoStats stats;
-  const int total = buffer.size();
+  static const dist::Comm single;
+  const dist::Comm& comm = comm_ ? *comm_ : single;
+  // the run's samples (over every rank); this rank's index of run sample g, or -1 (its own index on one process)
+  const int local = buffer.size(), envSteps = buffer.steps;
+  const int total = comm_ ? envSteps * int(runEnvs_.size()) : local;
+  const auto localIndex = [&](int g) {
+    if (!comm_) return g;
+    const int n = runEnvs_[size_t(g / envSteps)];
+    return n < 0 ? -1 : g % envSteps + n * envSteps;
+  };
   if (total <= 0) return stats;
   const int batch = std::min(config_.batchSize, total);
   const int minibatches = total / batch;
   const Eigen::Index obsSize = buffer.observations.rows(), actSize = buffer.actions.rows();
-  mbObs_.resize(obsSize, batch);
-  mbActions_.resize(actSize, batch);
-  mbLogProbs_.resize(batch);
-  mbAdvantages_.resize(batch);
-  mbReturns_.resize(batch);
-  mbValues_.resize(batch);
   permutation_.resize(size_t(total));
   if (config_.adaptiveLearningRate && std::isnan(adaptiveLr_))
     adaptiveLr_ = std::clamp(coefficients.learningRate, config_.adaptiveLrMin, config_.adaptiveLrMax);
@@ -100,18 +103,27 @@ PpoStats PpoUpdater::update(const RolloutBuffer& buffer, const PpoCoefficients& 
       std::swap(permutation_[size_t(i)], permutation_[size_t((*rng)() % uint64_t(i + 1))]);
 
     for (int mb = 0; mb < minibatches; ++mb) {
-      // gather the minibatch columns
-      for (int j = 0; j < batch; ++j) {
-        const int i = permutation_[size_t(mb * batch + j)];
-        mbObs_.col(j) = buffer.observations.col(i);
-        mbActions_.col(j) = buffer.actions.col(i);
-        mbLogProbs_(j) = buffer.logProbs(i);
-        mbAdvantages_(j) = buffer.advantages.data()[i];
-        mbReturns_(j) = buffer.returns.data()[i];
-        mbValues_(j) = buffer.values.data()[i];
+      // gather this rank's columns of the minibatch (all of them on one process)
+      int mine = 0;
+      for (int j = 0; j < batch; ++j) mine += localIndex(permutation_[size_t(mb * batch + j)]) >= 0;
+      mbObs_.resize(obsSize, mine);
+      mbActions_.resize(actSize, mine);
+      mbLogProbs_.resize(mine);
+      mbAdvantages_.resize(mine);
+      mbReturns_.resize(mine);
+      mbValues_.resize(mine);
+      for (int j = 0, c = 0; j < batch; ++j) {
+        const int i = localIndex(permutation_[size_t(mb * batch + j)]);
+        if (i < 0) continue;
+        mbObs_.col(c) = buffer.observations.col(i);
+        mbActions_.col(c) = buffer.actions.col(i);
+        mbLogProbs_(c) = buffer.logProbs(i);
+        mbAdvantages_(c) = buffer.advantages.data()[i];
+        mbReturns_(c) = buffer.returns.data()[i];
+        mbValues_(c++) = buffer.values.data()[i];
       }
       try {
-        minibatchStep(coefficients, policy, &stats);
+        minibatchStep(coefficients, batch, policy, &stats);
       } catch (const TrainingDiverged& e) {
         throw TrainingDiverged(std::string(e.what()) + " (epoch " + std::to_string(epoch + 1) + ", minibatch " +
                                std::to_string(mb + 1) + ")");
@@ -128,26 +140,45 @@ PpoStats PpoUpdater::update(const RolloutBuffer& buffer, const PpoCoefficients& 
   stats.clipFraction /= steps;
   stats.gradNorm /= steps;
   stats.learningRate = config_.adaptiveLearningRate ? adaptiveLr_ : coefficients.learningRate;
-  const Eigen::ArrayXd ret = Eigen::Map<const Eigen::ArrayXf>(buffer.returns.data(), total).cast<double>();
-  const Eigen::ArrayXd val = Eigen::Map<const Eigen::ArrayXf>(buffer.values.data(), total).cast<double>();
-  const double varReturns = (ret - ret.mean()).square().mean();
+  // (sums over the ranks, then divided: on one process, Eigen's mean() to the bit)
+  const Eigen::ArrayXd ret = Eigen::Map<const Eigen::ArrayXf>(buffer.returns.data(), local).cast<double>();
+  const Eigen::ArrayXd val = Eigen::Map<const Eigen::ArrayXf>(buffer.values.data(), local).cast<double>();
   const Eigen::ArrayXd residual = ret - val;
-  const double varResidual = (residual - residual.mean()).square().mean();
+  double means[2] = {ret.sum(), residual.sum()};
+  comm.sum(means, 2);
+  means[0] /= double(total), means[1] /= double(total);
+  double squares[2] = {(ret - means[0]).square().sum(), (residual - means[1]).square().sum()};
+  comm.sum(squares, 2);
+  const double varReturns = squares[0] / double(total), varResidual = squares[1] / double(total);
   stats.explainedVariance = varReturns > 0 ? 1.0 - varResidual / varReturns : std::nan("");
   return stats;
 }
 
-void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, PpoStats* stats) {
-  const Eigen::Index batch = mbObs_.cols();
+void PpoUpdater::sumGradients() {
+  if (!comm_ || comm_->size() == 1) return;
+  size_t n = 0;
+  for (const TensorRef& g : gradRefs_) n += size_t(g.size);
+  flatGrads_.resize(n);
+  size_t at = 0;
+  for (const TensorRef& g : gradRefs_) std::copy(g.data, g.data + g.size, flatGrads_.data() + at), at += size_t(g.size);
+  comm_->sum(flatGrads_.data(), n);
+  at = 0;
+  for (const TensorRef& g : gradRefs_)
+    std::copy(flatGrads_.data() + at, flatGrads_.data() + at + g.size, g.data), at += size_t(g.size);
+}
+
+void PpoUpdater::minibatchStep(const PpoCoefficients& c, int batch, PolicyState* policy, PpoStats* stats) {
+  static const dist::Comm single;
+  const dist::Comm& comm = comm_ ? *comm_ : single;
   const Eigen::Index dims = policy->logStd.size();
   const float eps = float(c.epsilon);
   const float invBatch = 1.0f / float(batch);
 
-  // advantages normalised within the minibatch (unbiased std, as torch.std)
+  // advantages normalised within the minibatch (unbiased std, as torch.std), over every rank's share of it
   if (config_.normalizeAdvantages && batch > 1) {
     const Eigen::ArrayXd a = mbAdvantages_.cast<double>();
-    const double mean = a.mean();
-    const double stddev = std::sqrt((a - mean).square().sum() / double(batch - 1));
+    const double mean = comm.sum(a.sum()) / double(batch);
+    const double stddev = std::sqrt(comm.sum((a - mean).square().sum()) / double(batch - 1));
     mbAdvantages_ = ((a - mean) / (stddev + 1e-8)).cast<float>();
   }
 
@@ -163,14 +194,13 @@ void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, Pp
   // unclipped term is the minimum
   const Eigen::ArrayXf surr1 = ratio * mbAdvantages_;
   const Eigen::ArrayXf surr2 = ratio.max(1.0f - eps).min(1.0f + eps) * mbAdvantages_;
-  const double policyLoss = -double(surr1.min(surr2).cast<double>().mean());
+  const double policySum = double(surr1.min(surr2).cast<double>().sum());
   const Eigen::ArrayXf dLogProb = (surr1 <= surr2).select(-surr1 * invBatch, 0.0f);
 
   // d logp / d mean_j = z_j / std_j; d logp / d logStd_j = z_j^2 - 1; the entropy bonus -beta * mean_j(logStd_j + c)
   // adds -beta / D to every log-std gradient
   dMean_ = ((z_.colwise() * invStd).rowwise() * dLogProb.transpose()).matrix();
   grads_.logStd = (z_.square() - 1.0f).matrix() * dLogProb.matrix();
-  grads_.logStd.array() -= float(c.beta / double(dims));
   const double entropy = gaussianEntropy(policy->logStd) / double(dims);
 
   // critic: L_v = mean((V - R)^2), optionally PPO2-clipped around the rollout value
@@ -178,15 +208,15 @@ void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, Pp
   const Eigen::ArrayXf v = value_.row(0).transpose().array();
   const Eigen::ArrayXf err = v - mbReturns_;
   Eigen::ArrayXf dV;
-  double valueLoss;
+  double valueSum;
   if (config_.clipValueLoss) {
     const Eigen::ArrayXf change = v - mbValues_;
     const Eigen::ArrayXf errClipped = mbValues_ + change.max(-eps).min(eps) - mbReturns_;
     const Eigen::ArrayXf inside = (change.abs() <= eps).cast<float>();
-    valueLoss = double(err.square().max(errClipped.square()).cast<double>().mean());
+    valueSum = double(err.square().max(errClipped.square()).cast<double>().sum());
     dV = (err.square() >= errClipped.square()).select(2.0f * err, 2.0f * errClipped * inside);
   } else {
-    valueLoss = double(err.square().cast<double>().mean());
+    valueSum = double(err.square().cast<double>().sum());
     dV = 2.0f * err;
   }
   dValue_ = (dV * float(config_.valueLossCoef) * invBatch).matrix().transpose();
@@ -205,6 +235,16 @@ void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, Pp
   appendTensors(&grads_.critic, &gradRefs_);
   appendTensor(&grads_.logStd, &gradRefs_);
 
+  // the samples' gradients and sums over every rank's share of the minibatch; then the entropy bonus, which depends on
+  // the log-std alone (added once, after the sum)
+  sumGradients();
+  grads_.logStd.array() -= float(c.beta / double(dims));
+  const Eigen::ArrayXf logRatioTerm = (ratio - 1.0f) - logRatio;
+  double sums[4] = {policySum, valueSum, double(logRatioTerm.cast<double>().sum()),
+                    double(((ratio - 1.0f).abs() > eps).cast<double>().sum())};
+  comm.sum(sums, 4);
+  const double policyLoss = -(sums[0] / double(batch)), valueLoss = sums[1] / double(batch);
+
   // refuse a non-finite step, then clip and apply
   if (actorFrozen_) {  // critic warm-up: nothing moves the actor or its noise (and its gradient does not clip the
                        // critic's)
@@ -220,7 +260,7 @@ void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, Pp
     throw TrainingDiverged(m.str());
   }
   // the KL of this minibatch under the current parameters (before the step) sets the adaptive rate, as rsl_rl
-  const double approxKl = double(((ratio - 1.0f) - logRatio).cast<double>().mean());
+  const double approxKl = sums[2] / double(batch);
   if (!actorFrozen_ && config_.adaptiveLearningRate) adaptiveLr_ = adaptLearningRate(adaptiveLr_, approxKl, config_);
   adam_.step(paramRefs_, gradRefs_, float(config_.adaptiveLearningRate ? adaptiveLr_ : c.learningRate));
   policy->logStd = policy->logStd.cwiseMax(float(config_.logStdMin)).cwiseMin(float(config_.logStdMax));
@@ -229,7 +269,7 @@ void PpoUpdater::minibatchStep(const PpoCoefficients& c, PolicyState* policy, Pp
   stats->valueLoss += valueLoss;
   stats->entropy += entropy;
   stats->approxKl += approxKl;
-  stats->clipFraction += double(((ratio - 1.0f).abs() > eps).cast<double>().mean());
+  stats->clipFraction += sums[3] / double(batch);
   stats->gradNorm += gradNorm;
   ++stats->minibatches;
 }

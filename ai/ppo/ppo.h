@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "ai/dist/comm.h"
 #include "ai/nn/adam.h"
 #include "ai/nn/mlp.h"
 #include "ai/nn/normalizer.h"
@@ -102,18 +103,35 @@ class PpoUpdater {
   /// critic must first learn the branch's rewards, before its advantages steer the actor.
   void setActorFrozen(bool frozen) { actorFrozen_ = frozen; }
 
+  /// Data-parallel training (ai/dist/comm.h): the run's buffer has runEnvs.size() environments (one process's
+  /// order), and this rank's buffer holds those n with runEnvs[n] >= 0, as its environment runEnvs[n]. Every rank
+  /// draws the same shuffle over the run's samples and takes its own of each minibatch; advantage statistics, losses
+  /// and gradients are summed over the ranks in rank order, so every rank takes the same Adam step, the step one
+  /// process takes on the union of the samples (up to the order of float additions). comm must outlive the updater.
+  /// One process: never called.
+  void setRanks(const dist::Comm* comm, std::vector<int> runEnvs) {
+    comm_ = comm;
+    runEnvs_ = std::move(runEnvs);
+  }
+
   /// The optimiser (its state is part of a checkpoint).
   Adam& optimizer() { return adam_; }
   const Adam& optimizer() const { return adam_; }
 
  private:
-  // one gradient step on the minibatch in the mb* members; adds to stats
-  void minibatchStep(const PpoCoefficients& c, PolicyState* policy, PpoStats* stats);
+  // one gradient step on the minibatch in the mb* members (this rank's share of a minibatch of `batch` samples);
+  // adds to stats
+  void minibatchStep(const PpoCoefficients& c, int batch, PolicyState* policy, PpoStats* stats);
+  // sums the gradients over the ranks (nothing on one process)
+  void sumGradients();
 
   PpoConfig config_;
   Adam adam_;
   double adaptiveLr_ = std::nan("");
   bool actorFrozen_ = false;
+  const dist::Comm* comm_ = nullptr;  // null: one process
+  std::vector<int> runEnvs_;          // this rank's environment of each of the run's (-1: another rank's)
+  std::vector<float> flatGrads_;
   PolicyGradients grads_;
   MlpCache actorCache_, criticCache_;
   std::vector<int> permutation_;

@@ -9,10 +9,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "ai/nn/byte_io.h"
 #include "ai/ppo/checkpoint.h"
 #include "ai/ppo/gaussian.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/core/hash.h"
 
 namespace ai {
 namespace {
@@ -55,8 +57,19 @@ struct Trainer::RolloutStats {
   std::vector<double> termSums;  // per reward term, over all env steps
 };
 
+namespace {
+const dist::Comm& singleProcess() {
+  static const dist::Comm single;
+  return single;
+}
+}  // namespace
+
 Trainer::Trainer(VecEnv& env, const PpoConfig& config, TrainerOptions options)
-    : env_(env), config_(config), options_(std::move(options)), updater_(config) {
+    : env_(env),
+      config_(config),
+      options_(std::move(options)),
+      comm_(options_.comm ? *options_.comm : singleProcess()),
+      updater_(config) {
   validatePpoConfig(config_, "ppo config");
   Eigen::setNbThreads(1);  // products outside the update (batched inference) stay on this thread
   if (options_.runDir.empty()) throw Error("trainer: runDir is empty");
@@ -66,10 +79,28 @@ Trainer::Trainer(VecEnv& env, const PpoConfig& config, TrainerOptions options)
   const int envs = env_.numEnvs();
   if (envs < 1 || env_.observationSize() < 1 || env_.actionSize() < 1)
     throw Error("trainer: the environment has no envs, observations or actions");
-  stepsPerEnv_ = config_.bufferSize / envs;
+  const int runEnvs = env_.globalEnvs();
+  if (runEnvs != envs * comm_.size())
+    throw Error("trainer: " + std::to_string(comm_.size()) + " ranks of " + std::to_string(envs) +
+                " environments, but the run has " + std::to_string(runEnvs));
+  for (int n = 0; n < envs; ++n) columns_.push_back(env_.globalColumn(n));
+  stepsPerEnv_ = config_.bufferSize / runEnvs;
   if (stepsPerEnv_ < 1)
     throw Error("trainer: buffer_size " + std::to_string(config_.bufferSize) + " is smaller than the " +
-                std::to_string(envs) + " environments");
+                std::to_string(runEnvs) + " environments");
+  if (comm_.size() > 1) {
+    std::vector<int> localOf(size_t(runEnvs), -1);
+    for (int n = 0; n < envs; ++n) {
+      const int c = columns_[size_t(n)];
+      if (c < 0 || c >= runEnvs || localOf[size_t(c)] >= 0)
+        throw Error("trainer: the env's run columns are not a share");
+      localOf[size_t(c)] = n;
+    }
+    updater_.setRanks(&comm_, std::move(localOf));
+    std::vector<float> mine(columns_.begin(), columns_.end()), every(static_cast<size_t>(runEnvs));
+    comm_.gather(mine.data(), mine.size(), every.data());
+    gatheredColumns_.assign(every.begin(), every.end());
+  }
   policy_ = makePolicyState(config_, env_.observationSize(), env_.actionSize(), options_.seed);
   rng_.seed(splitMix64(options_.seed ^ kTrainerRngSalt));
   buffer_.resize(env_.observationSize(), env_.actionSize(), stepsPerEnv_, envs);
@@ -91,6 +122,18 @@ void Trainer::initialiseFrom(const PolicyState& parent, float reinflateLogStd, b
   bestScore_ = -std::numeric_limits<double>::infinity();
 }
 
+uint64_t Trainer::policyHashOnEveryRank() const {
+  ByteWriter w;
+  writePolicyState(&w, policy_);
+  const uint64_t mine = engine::hashBytes(w.data());
+  const std::vector<std::string> all = comm_.gather(engine::toHex(mine));
+  for (size_t r = 1; r < all.size(); ++r)
+    if (all[r] != all[0])
+      throw Error("the ranks' policies differ (rank 0 " + all[0] + ", rank " + std::to_string(r) + " " + all[r] +
+                  "): they no longer train one run");
+  return mine;
+}
+
 std::vector<std::string> Trainer::logColumns() const {
   std::vector<std::string> c = {"iteration",           "env_steps",          "wall_s", "steps_per_s", "mean_reward",
                                 "mean_episode_return", "mean_episode_length"};
@@ -99,6 +142,18 @@ std::vector<std::string> Trainer::logColumns() const {
                            "grad_norm", "lr", "rollout_physics_s", "inference_s", "update_s", "eval_score", "lesson"})
     c.push_back(name);
   return c;
+}
+
+const Eigen::MatrixXf& Trainer::runObservations() {
+  if (comm_.size() == 1) return obs_;
+  // every rank's block in rank order, each column put at its run column: the matrix one process would have
+  const int envs = env_.numEnvs(), rows = int(obs_.rows());
+  gathered_.resize(rows, envs * comm_.size());
+  comm_.gather(obs_.data(), size_t(obs_.size()), gathered_.data());
+  runObs_.resize(rows, env_.globalEnvs());
+  for (size_t k = 0; k < gatheredColumns_.size(); ++k)
+    runObs_.col(gatheredColumns_[k]) = gathered_.col(Eigen::Index(k));
+  return runObs_;
 }
 
 void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
@@ -117,11 +172,14 @@ void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
     // batched inference: one forward of actor and critic for all environments
     const Clock::time_point t0 = Clock::now();
     requireFinite(obs_, "observation", iteration_, t);
-    if (config_.normalizeObservations && !options_.freezeNormalizer) policy_.normalizer.update(obs_);
+    if (config_.normalizeObservations && !options_.freezeNormalizer) policy_.normalizer.update(runObservations());
     policy_.normalizer.normalize(obs_, &normObs_);
     mlpForward(policy_.actor, normObs_, &mean_);
     mlpForward(policy_.critic, normObs_, &values_);
-    sampleGaussian(&rng_, mean_, policy_.logStd, &actions_);
+    if (comm_.size() == 1)
+      sampleGaussian(&rng_, mean_, policy_.logStd, &actions_);
+    else  // the noise of all the run's environments, as one process draws it; this rank's columns of it
+      sampleGaussianColumns(&rng_, mean_, policy_.logStd, columns_, env_.globalEnvs(), &noise_, &actions_);
     const Eigen::VectorXf logProbs = gaussianLogProb(actions_, mean_, policy_.logStd);
     for (int n = 0; n < envs; ++n) {
       const int i = buffer_.index(t, n);
@@ -173,6 +231,17 @@ void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
     timing->inference += secondsSince(t2);
   }
 
+  // the figures of the log are the run's: sums over the ranks
+  if (comm_.size() > 1) {
+    std::vector<double> sums = {stats->rewardSum, stats->episodeReturnSum, stats->episodeLengthSum,
+                                double(stats->episodes)};
+    sums.insert(sums.end(), stats->termSums.begin(), stats->termSums.end());
+    comm_.sum(sums.data(), sums.size());
+    stats->rewardSum = sums[0], stats->episodeReturnSum = sums[1], stats->episodeLengthSum = sums[2];
+    stats->episodes = int64_t(sums[3]);
+    std::copy(sums.begin() + 4, sums.end(), stats->termSums.begin());
+  }
+
   rolloutLesson_ = env_.curriculumLesson();  // the log's lesson column: the lesson this rollout trained
   env_.endRollout();  // the curriculum measures the rollout (episodes still running were cut here)
 
@@ -188,6 +257,7 @@ void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
 }
 
 void Trainer::writeCheckpoint(const std::string& path) const {
+  if (!comm_.isRoot()) return;  // every rank holds the same state; rank 0 writes it
   TrainerCheckpoint c;
   c.configHash = ppoConfigHash(config_);
   c.seed = options_.seed;
@@ -226,6 +296,7 @@ void Trainer::resumeFromCheckpoint(double* wallOffset) {
   bestScore_ = c.bestScore;
 
   // keep the header and the rows up to the checkpoint's iteration; continue wall time from the last kept row
+  if (!comm_.isRoot()) return;
   const std::string logPath = options_.runDir + "/log.csv";
   std::string header;
   for (const std::string& col : logColumns()) header += (header.empty() ? "" : ",") + col;
@@ -255,7 +326,7 @@ void Trainer::resumeFromCheckpoint(double* wallOffset) {
 
 std::string Trainer::logRow(const TrainerProgress& p, const RolloutStats& r, double lr, double wall,
                             double stepsPerSecond, const Timing& timing) const {
-  const double samples = double(buffer_.size());
+  const double samples = double(buffer_.size()) * comm_.size();  // the run's samples (termSums are over every rank)
   std::string row = std::to_string(p.iteration) + "," + std::to_string(p.envSteps) + "," + fmt(wall) + "," +
                     fmt(stepsPerSecond) + "," + fmt(p.meanReward) + "," + fmt(p.meanEpisodeReturn) + "," +
                     fmt(p.meanEpisodeLength);
@@ -270,22 +341,28 @@ std::string Trainer::logRow(const TrainerProgress& p, const RolloutStats& r, dou
 }
 
 void Trainer::run() {
-  engine::makeDirectories(options_.runDir);
-  engine::removeStaleTemps(options_.runDir);  // a checkpoint write cut short by a kill left its 7 MB temp
+  const bool root = comm_.isRoot();  // rank 0 writes the run folder; the others keep no files
+  if (root) {
+    engine::makeDirectories(options_.runDir);
+    engine::removeStaleTemps(options_.runDir);  // a checkpoint write cut short by a kill left its 7 MB temp
+  }
   const std::string logPath = options_.runDir + "/log.csv";
   const std::string checkpointPath = options_.runDir + "/checkpoint.bin";
   double wallOffset = 0;
   if (options_.resume) {
     resumeFromCheckpoint(&wallOffset);
-  } else {
+  } else if (root) {
     std::string header;
     for (const std::string& col : logColumns()) header += (header.empty() ? "" : ",") + col;
     engine::writeFileAtomic(logPath, header + "\n");
   }
-  std::ofstream log(logPath, std::ios::app);
-  if (!log) throw Error(logPath + ": cannot open for appending");
+  std::ofstream log;
+  if (root) {
+    log.open(logPath, std::ios::app);
+    if (!log) throw Error(logPath + ": cannot open for appending");
+  }
 
-  const int64_t perIteration = buffer_.size();
+  const int64_t perIteration = int64_t(buffer_.size()) * comm_.size();
   const int64_t totalIterations = (options_.totalSteps + perIteration - 1) / perIteration;
   const Clock::time_point start = Clock::now();
   int64_t stepsThisProcess = 0;
@@ -323,7 +400,7 @@ void Trainer::run() {
 
     // evaluate; keep the best policy
     TrainerProgress p;
-    if (options_.evaluate && (iteration_ % options_.evalEvery == 0 || last)) {
+    if (root && options_.evaluate && (iteration_ % options_.evalEvery == 0 || last)) {
       p.evalScore = options_.evaluate(policy_);
       if (p.evalScore > bestScore_) {
         bestScore_ = p.evalScore;
@@ -348,21 +425,24 @@ void Trainer::run() {
     p.stats = stats;
     p.curriculumNote = env_.curriculumNote();
     const double iterationSeconds = secondsSince(iterationStart);
-    log << logRow(p, rollout, stats.learningRate, wallOffset + elapsed,
-                  double(perIteration) / std::max(iterationSeconds, 1e-9), timing);
-    log.flush();
-    if (!log) throw Error(logPath + ": write failed");
+    if (root) {
+      log << logRow(p, rollout, stats.learningRate, wallOffset + elapsed,
+                    double(perIteration) / std::max(iterationSeconds, 1e-9), timing);
+      log.flush();
+      if (!log) throw Error(logPath + ": write failed");
+    }
 
-    // save, report, and honour a stop request
-    const bool stop = stopRequested_;
+    // save, report, and honour a stop request (asked of any rank, every rank stops)
+    const bool stop = comm_.any(stopRequested_);
     if (iteration_ % options_.checkpointEvery == 0 || last || stop) writeCheckpoint(checkpointPath);
     if (options_.onIteration) options_.onIteration(p);
-    if (stopRequested_ && !last) {
+    if (comm_.any(stopRequested_) && !last) {
       if (!stop) writeCheckpoint(checkpointPath);
       stoppedEarly_ = true;
       break;
     }
   }
+  if (comm_.size() > 1) policyHashOnEveryRank();  // every rank took every step alike, or the run is not one run
 }
 
 }  // namespace ai

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "ai/dist/comm.h"
 #include "ai/env/vec_env.h"
 #include "ai/ppo/ppo.h"
 #include "ai/ppo/ppo_config.h"
@@ -55,6 +56,12 @@ struct TrainerOptions {
   int updateThreads = 1;
   /// The first this many iterations of the run update the critic only (PpoUpdater::setActorFrozen).
   int criticWarmupIterations = 0;
+  /// The ranks training this run together (ai/dist/comm.h); null: one process. The env steps this rank's share of
+  /// the run's environments (VecEnv::globalEnvs, globalColumn). Every rank keeps the same policy, normaliser, optimiser
+  /// and random streams: the normaliser is updated from every rank's observations, the action noise drawn for all
+  /// environments, the update's sums taken over the ranks. Rank 0 alone writes the log and checkpoints and evaluates;
+  /// every rank reads the checkpoint on --resume. Must outlive the trainer.
+  const dist::Comm* comm = nullptr;
   /// Keep the observation normaliser's statistics as loaded (a fine-tune on new states: the kick taking the walk's
   /// stopped robot moved a 1e5-count normaliser within 3 iterations and the deterministic policy no longer kicked).
   bool freezeNormalizer = false;
@@ -98,8 +105,13 @@ class Trainer {
   int64_t envSteps() const { return envSteps_; }
   /// The best evaluation score so far (-inf: none; a resumed run's is its checkpoint's once run() has resumed).
   double bestScore() const { return bestScore_; }
-  /// Environment steps per environment per iteration (bufferSize / numEnvs).
+  /// Environment steps per environment per iteration (bufferSize / the run's environments).
   int stepsPerEnv() const { return stepsPerEnv_; }
+
+  /// The hash of the policy (networks, normaliser, log-std: FNV-1a of its policy-file bytes), checked to be the same
+  /// on every rank (engine::Error naming the ranks otherwise: they no longer train one run). run() checks it at its
+  /// end under mpirun.
+  uint64_t policyHashOnEveryRank() const;
 
   /// Column names of log.csv, in order.
   std::vector<std::string> logColumns() const;
@@ -111,6 +123,8 @@ class Trainer {
   struct RolloutStats;
 
   void collectRollout(RolloutStats* stats, Timing* timing);
+  // this step's observations of the run's every environment (this rank's own on one process)
+  const Eigen::MatrixXf& runObservations();
   void writeCheckpoint(const std::string& path) const;
   void resumeFromCheckpoint(double* wallOffset);
   std::string logRow(const TrainerProgress& p, const RolloutStats& r, double lr, double wall, double stepsPerSecond,
@@ -119,6 +133,9 @@ class Trainer {
   VecEnv& env_;
   PpoConfig config_;
   TrainerOptions options_;
+  const dist::Comm& comm_;
+  std::vector<int> columns_;          // the run's column of each of this rank's environments
+  std::vector<int> gatheredColumns_;  // several ranks: the run's column of each gathered one (rank order)
   int stepsPerEnv_ = 0;
   PolicyState policy_;
   PpoUpdater updater_;
@@ -134,6 +151,7 @@ class Trainer {
   // rollout scratch, reused every step
   StepResult step_;
   Eigen::MatrixXf obs_, normObs_, mean_, actions_, values_, finalObs_, finalNorm_, finalValues_;
+  Eigen::MatrixXf runObs_, gathered_, noise_;  // several ranks: every rank's observations, in the run's order
 };
 
 }  // namespace ai

@@ -15,6 +15,7 @@
 #include "ai/ppo/ppo_config.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/core/hash.h"
 #include "engine/loop/clock.h"
 
 namespace ai {
@@ -57,8 +58,11 @@ const std::vector<std::string>& paperComparisonSkills() {
   return skills;
 }
 
-TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
+TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& logOnEveryRank,
                                 const std::function<void(Trainer*)>& onTrainer) {
+  // under mpirun each rank steps a share of every skill's environments; rank 0 prints and writes the run folder
+  const dist::Comm& comm = dist::world();
+  const Log log = comm.isRoot() ? logOnEveryRank : Log([](const std::string&) {});
   if (o.skills.empty()) throw engine::Error("multitask: no skills given");
   for (size_t i = 0; i < o.skills.size(); ++i)
     if (std::find(o.skills.begin(), o.skills.begin() + long(i), o.skills[i]) != o.skills.begin() + long(i))
@@ -91,7 +95,12 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
   for (const auto& l : contexts) {
     log("skill '" + l->skill->name + "' (one-hot " + std::to_string(tasks.size()) +
         "): " + std::to_string(o.envsPerSkill) + " environments\n");
-    const SkillEnvOptions envOptions = skillEnvOptions(*l, modelsDir, o.envsPerSkill, o.threads, log);
+    SkillEnvOptions envOptions = skillEnvOptions(*l, modelsDir, o.envsPerSkill, o.threads, log);
+    const dist::EnvShare share = dist::envShare(o.envsPerSkill, comm);
+    envOptions.numEnvs = share.count;
+    envOptions.firstEnv = share.first;
+    envOptions.runEnvs = o.envsPerSkill;
+    envOptions.comm = &comm;
     tasks.push_back({l->skill->name, std::make_unique<SkillEnv>(l->model, *l->skill, l->tree.path, envOptions)});
   }
   MultiTaskEnv env(std::move(tasks));
@@ -102,11 +111,12 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
   options.seed = o.seed;
   options.resume = o.resume;
   options.updateThreads = o.threads;
+  options.comm = &comm;
   const std::string skillsLog = o.runDir + "/" + kSkillsLog;
   bool firstIteration = true;
   options.onIteration = [&](const TrainerProgress& p) {
     // a resumed run drops the rows after its checkpoint, as log.csv does
-    if (firstIteration) engine::writeFileAtomic(skillsLog, keptRows(skillsLog, p.iteration));
+    if (firstIteration && comm.isRoot()) engine::writeFileAtomic(skillsLog, keptRows(skillsLog, p.iteration));
     firstIteration = false;
     std::string rows, line;
     char buf[256];
@@ -114,7 +124,17 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
                   (long long)p.iteration, (long long)p.totalIterations, (long long)p.envSteps, p.stepsPerSecond,
                   p.etaSeconds / 60.0, p.stats.approxKl, p.stats.learningRate);
     line = buf;
-    const std::vector<MultiTaskEnv::TaskStats> stats = env.takeTaskStats();
+    std::vector<MultiTaskEnv::TaskStats> stats = env.takeTaskStats();
+    if (comm.size() > 1) {  // the run's figures: every rank's episodes
+      std::vector<double> sums;
+      for (const auto& s : stats)
+        sums.insert(sums.end(), {double(s.episodes), s.returnSum, s.lengthSum, s.rewardSum, double(s.steps)});
+      comm.sum(sums.data(), sums.size());
+      for (size_t k = 0; k < stats.size(); ++k) {
+        const double* v = &sums[5 * k];
+        stats[k] = {int(v[0]), v[1], v[2], v[3], int64_t(v[4])};
+      }
+    }
     for (int k = 0; k < env.taskCount(); ++k) {
       const MultiTaskEnv::TaskStats& s = stats[size_t(k)];
       const double meanReturn = s.episodes ? s.returnSum / s.episodes : std::nan("");
@@ -127,9 +147,11 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
                     meanReturn, meanLength, perStep);
       line += buf;
     }
-    std::ofstream out(skillsLog, std::ios::app);
-    out << rows;
-    if (!out) throw engine::Error(skillsLog + ": cannot append");
+    if (comm.isRoot()) {
+      std::ofstream out(skillsLog, std::ios::app);
+      out << rows;
+      if (!out) throw engine::Error(skillsLog + ": cannot append");
+    }
     log(line);
   };
 
@@ -148,14 +170,17 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
   }
   std::string order;
   for (const std::string& s : o.skills) order += s + "\n";
-  engine::makeDirectories(o.runDir);
-  engine::writeFileAtomic(o.runDir + "/" + kSkillsFile, order);
+  if (comm.isRoot()) {
+    engine::makeDirectories(o.runDir);
+    engine::writeFileAtomic(o.runDir + "/" + kSkillsFile, order);
+  }
   {
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "training one network on %zu skills: %lld steps in all, %d environments (%d per skill) on %d "
-                  "threads, %d steps each per iteration, seed %llu, run folder %s\n",
-                  o.skills.size(), (long long)o.steps, envs, o.envsPerSkill, o.threads, stepsPerEnv,
+                  "threads%s, %d steps each per iteration, seed %llu, run folder %s\n",
+                  o.skills.size(), (long long)o.steps, envs, o.envsPerSkill, o.threads,
+                  comm.size() > 1 ? (" in each of " + std::to_string(comm.size()) + " ranks").c_str() : "", stepsPerEnv,
                   (unsigned long long)o.seed, o.runDir.c_str());
     log(buf);
   }
@@ -167,6 +192,10 @@ TrainMultiResult trainMultiTask(const TrainMultiOptions& o, const Log& log,
         "/checkpoint.bin, go on with --resume; nothing exported\n");
     return {o.runDir, trainer.iteration(), trainer.envSteps(), true};
   }
+  if (comm.size() > 1)
+    log("ranks in step: all " + std::to_string(comm.size()) + " end with policy hash " +
+        engine::toHex(trainer.policyHashOnEveryRank()) + "\n");
+  if (!comm.isRoot()) return {o.runDir, trainer.iteration(), trainer.envSteps(), false};
   const PolicyInfo info{ppoConfigHash(config), trainer.iteration(), trainer.envSteps(), std::nan("")};
   savePolicyState(o.runDir + "/" + kPolicyFile, trainer.policy(), info);
   log("exported " + o.runDir + "/" + kPolicyFile + " (the final policy; skills in one-hot order in " + o.runDir + "/" +

@@ -14,6 +14,7 @@
 #include "ai/ppo/ppo_config.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/core/hash.h"
 
 namespace ai {
 namespace {
@@ -109,9 +110,12 @@ SkillEnvOptions skillEnvOptions(const SkillContext& l, const std::string& models
   return envOptions;
 }
 
-TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, const Log& log,
+TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, const Log& logOnEveryRank,
                             const std::function<void(Trainer*)>& onTrainer) {
   const SkillSpec& skill = *l.skill;
+  // under mpirun each rank steps a share of the environments; rank 0 prints, writes the run folder and exports
+  const dist::Comm& comm = dist::world();
+  const Log log = comm.isRoot() ? logOnEveryRank : Log([](const std::string&) {});
   const std::string treeText = engine::readFile(l.tree.path);
   // [ppo], then the skill's own [skill.NAME.ppo] overrides (not inherited by its branches)
   PpoConfig config = parsePpoConfig(treeText, l.tree.path, "ppo");
@@ -144,9 +148,15 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     throw engine::Error("--envs " + std::to_string(envs) + " must divide the PPO buffer size " +
                         std::to_string(config.bufferSize));
 
-  const SkillEnvOptions envOptions = skillEnvOptions(l, modelsDir, envs, o.threads, log);
+  SkillEnvOptions envOptions = skillEnvOptions(l, modelsDir, envs, o.threads, log);
+  const dist::EnvShare share = dist::envShare(envs, comm);
+  envOptions.numEnvs = share.count;
+  envOptions.firstEnv = share.first;
+  envOptions.runEnvs = envs;
+  envOptions.comm = &comm;
   SkillEnv env(l.model, skill, l.tree.path, envOptions);
   TrainerOptions options;
+  options.comm = &comm;
   options.runDir = runDir;
   options.totalSteps = steps;
   options.seed = o.seed;
@@ -227,8 +237,13 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
         parentPolicy.c_str(), o.zeroOutput ? ", actor output layer zeroed: the branch starts as its prior alone" : "",
         config.learningRate, std::isnan(o.learningRate) ? " ([ppo] branch_learning_rate)" : " (--learning-rate)");
   }
-  say(log, "training %s: %lld steps, %d envs on %d threads, seed %llu, run folder %s\n", skill.name.c_str(),
-      (long long)steps, envs, o.threads, (unsigned long long)o.seed, runDir.c_str());
+  if (comm.size() > 1)
+    say(log, "training %s: %lld steps, %d envs in %d ranks of %d (%d threads each), seed %llu, run folder %s\n",
+        skill.name.c_str(), (long long)steps, envs, comm.size(), share.count, o.threads, (unsigned long long)o.seed,
+        runDir.c_str());
+  else
+    say(log, "training %s: %lld steps, %d envs on %d threads, seed %llu, run folder %s\n", skill.name.c_str(),
+        (long long)steps, envs, o.threads, (unsigned long long)o.seed, runDir.c_str());
   if (onTrainer) onTrainer(&trainer);
   trainer.run();
   if (onTrainer) onTrainer(nullptr);
@@ -241,7 +256,11 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     return {runDir, iterationsRun, trainer.iteration(), trainer.envSteps(), steps, true};
   }
 
-  // export the best-by-evaluation policy if there is one, else the final one
+  if (comm.size() > 1)
+    say(log, "ranks in step: all %d end with policy hash %s\n", comm.size(),
+        engine::toHex(trainer.policyHashOnEveryRank()).c_str());
+  // export the best-by-evaluation policy if there is one, else the final one (rank 0; every rank holds the same)
+  if (!comm.isRoot()) return {runDir, iterationsRun, trainer.iteration(), trainer.envSteps(), steps};
   const std::string best = runDir + "/best.bin";
   const bool haveBest = std::filesystem::exists(best);
   PolicyInfo info{ppoConfigHash(config), trainer.iteration(), trainer.envSteps(), std::nan("")};

@@ -1,0 +1,102 @@
+// mpi_cli_test.cpp — training over MPI ranks (ai/dist/comm.h) as a user starts it, `mpirun -np N build/treelearn
+// train ...`: the ranks end in step, a run is the same run to run and after a resume, one rank is the run without
+// mpirun bit for bit, and the ranks' update is the single process's update on all their samples. Built when the
+// project is built with MPI (scripts/setup.sh builds it so); Open MPI's settings for root and containers are given
+// here.
+#ifdef TREELEARN_MPI_TESTS
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include "engine/core/file_io.h"
+#include "tests/cli_run.h"
+
+namespace {
+
+using cli::CliRun;
+
+// Open MPI refuses root without the two ALLOW variables; shared memory and loopback are enough on one machine, and
+// containers lack the kernel's cross-memory attach
+const std::string kMpirun =
+    "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl=self,vader "
+    "OMPI_MCA_btl_vader_single_copy_mechanism=none mpirun --bind-to none --oversubscribe ";
+
+CliRun mpirun(int ranks, const std::string& args) {
+  return cli::shell(kMpirun + "-np " + std::to_string(ranks) + " " + TREELEARN_BINARY + " " + args);
+}
+
+std::string field(const std::string& out, const std::string& name) {
+  const size_t at = out.find(name + " ");
+  if (at == std::string::npos) return "";
+  return out.substr(at + name.size() + 1, out.find('\n', at) - at - name.size() - 1);
+}
+
+TEST(MpiCli, TheRanksUpdateIsTheOneProcessUpdateOnAllTheirSamples) {
+  for (int ranks : {2, 4}) {  // 2 or 4 of the 8 environments each
+    const CliRun r = cli::shell(kMpirun + "-np " + std::to_string(ranks) + " " + TREELEARN_MPI_CHECK);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(field(r.out, "ranks"), std::to_string(ranks)) << r.out;
+    EXPECT_EQ(field(r.out, "ranks agree"), "1") << r.out;  // every rank's policy, byte for byte
+    // the same Adam steps on weights of order 1: only the order of float additions differs (measured 3e-8)
+    EXPECT_LT(std::stod(field(r.out, "largest difference")), 1e-6) << r.out;
+    EXPECT_GT(std::stod(field(r.out, "largest weight")), 0.5) << r.out;
+  }
+}
+
+TEST(MpiCli, TwoRanksTrainTheWalkInStepTheSameRunToRunAndAfterAResume) {
+  const std::string dir = cli::tempDir("mpi", "walk");
+  const std::string common = "train walk --envs 4 --threads 1 --eval-every 0 --run-dir ";
+  const CliRun a = mpirun(2, common + dir + "/a --steps 40960");
+  ASSERT_EQ(a.code, 0) << a.out;
+  EXPECT_NE(a.out.find("4 envs in 2 ranks of 2"), std::string::npos) << a.out;
+  EXPECT_NE(a.out.find("ranks in step: all 2 end with policy hash"), std::string::npos) << a.out;
+  EXPECT_EQ(a.out.find("iter 1/2"), a.out.rfind("iter 1/2")) << "rank 1 printed too:\n" << a.out;
+  const std::string log = engine::readFile(dir + "/a/log.csv");
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 3) << log;  // the header and 2 iterations, written once
+  ASSERT_TRUE(std::filesystem::exists(dir + "/a/walk.onnx"));
+
+  const CliRun b = mpirun(2, common + dir + "/b --steps 40960");
+  ASSERT_EQ(b.code, 0) << b.out;
+  const CliRun c1 = mpirun(2, common + dir + "/c --steps 20480");
+  ASSERT_EQ(c1.code, 0) << c1.out;
+  const CliRun c2 = mpirun(2, common + dir + "/c --steps 40960 --resume");
+  ASSERT_EQ(c2.code, 0) << c2.out;
+  const std::string policy = engine::readFile(dir + "/a/walk.policy.bin", engine::kMaxModelFileBytes);
+  EXPECT_TRUE(policy == engine::readFile(dir + "/b/walk.policy.bin", engine::kMaxModelFileBytes)) << "run to run";
+  EXPECT_TRUE(policy == engine::readFile(dir + "/c/walk.policy.bin", engine::kMaxModelFileBytes)) << "resumed";
+}
+
+TEST(MpiCli, OneRankIsTheRunWithoutMpirunBitForBit) {
+  const std::string dir = cli::tempDir("mpi", "one");
+  const std::string common = "train walk --envs 4 --threads 1 --eval-every 0 --steps 40960 --run-dir ";
+  const CliRun one = mpirun(1, common + dir + "/mpi");
+  ASSERT_EQ(one.code, 0) << one.out;
+  const CliRun plain = cli::run(common + dir + "/plain");
+  ASSERT_EQ(plain.code, 0) << plain.out;
+  EXPECT_TRUE(engine::readFile(dir + "/mpi/walk.policy.bin", engine::kMaxModelFileBytes) ==
+              engine::readFile(dir + "/plain/walk.policy.bin", engine::kMaxModelFileBytes));
+}
+
+TEST(MpiCli, TheMultiTaskNetworkTrainsOverTwoRanks) {
+  const std::string dir = cli::tempDir("mpi", "multitask");
+  const CliRun r =
+      mpirun(2, "multitask --skills walk squat --envs-per-skill 2 --threads 1 --steps 4096 --run-dir " + dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("ranks in step: all 2"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/multitask.policy.bin"));
+  EXPECT_EQ(engine::readFile(dir + "/skills.txt"), "walk\nsquat\n");
+}
+
+TEST(MpiCli, EnvironmentsThatTheRanksCannotShareAndCommandsThatDoNotRunOnRanksAreRefused) {
+  const CliRun uneven = mpirun(2, "train walk --envs 5 --steps 20480 --run-dir " + cli::tempDir("mpi", "uneven"));
+  EXPECT_NE(uneven.code, 0) << uneven.out;
+  EXPECT_NE(uneven.out.find("5 environments cannot be shared evenly by 2 ranks"), std::string::npos) << uneven.out;
+  const CliRun play = mpirun(2, "play levels/flat --seconds 1");
+  EXPECT_NE(play.code, 0) << play.out;
+  EXPECT_NE(play.out.find("only train and multitask run across ranks"), std::string::npos) << play.out;
+}
+
+}  // namespace
+#endif
