@@ -110,16 +110,6 @@ void Comm::sum(double* data, size_t count) const {
 #endif
 }
 
-void Comm::gather(const float* mine, size_t count, float* all) const {
-  if (size_ == 1) {
-    std::copy(mine, mine + count, all);
-    return;
-  }
-#ifdef TREELEARN_MPI
-  check(MPI_Allgather(mine, int(count), MPI_FLOAT, all, int(count), MPI_FLOAT, MPI_COMM_WORLD), "allgather");
-#endif
-}
-
 std::vector<std::string> Comm::gather(const std::string& mine) const {
   if (size_ == 1) return {mine};
   std::vector<std::string> out(static_cast<size_t>(size_));

@@ -32,8 +32,6 @@ class Comm {
     sum(&value, 1);
     return value;
   }
-  /// Every rank's `count` floats, concatenated in rank order into all (size() * count entries).
-  void gather(const float* mine, size_t count, float* all) const;
   /// Every rank's bytes (any length), in rank order.
   std::vector<std::string> gather(const std::string& mine) const;
   /// True on every rank when flag is true on any rank.

@@ -23,6 +23,10 @@ void RunningNormalizer::update(const Eigen::MatrixXf& batch) {
   const Eigen::MatrixXd x = batch.cast<double>();
   const Eigen::VectorXd batchMean = x.rowwise().mean();
   const Eigen::VectorXd batchVar = (x.colwise() - batchMean).array().square().rowwise().sum().matrix() / n;
+  combine(n, batchMean, batchVar);
+}
+
+void RunningNormalizer::combine(double n, const Eigen::VectorXd& batchMean, const Eigen::VectorXd& batchVar) {
   const double total = count_ + n;
   const Eigen::VectorXd delta = batchMean - mean_;
   mean_ += delta * (n / total);
@@ -30,6 +34,28 @@ void RunningNormalizer::update(const Eigen::MatrixXf& batch) {
   var_ = m2 / total;
   count_ = total;
   refreshCache();
+}
+
+void RunningNormalizer::batchSums(const Eigen::MatrixXf& batch, std::vector<double>* sums) const {
+  if (batch.rows() != mean_.size()) throw std::invalid_argument("RunningNormalizer::batchSums: wrong feature count");
+  const Eigen::Index d = mean_.size();
+  sums->assign(size_t(1 + 2 * d), 0.0);
+  (*sums)[0] = double(batch.cols());
+  const Eigen::ArrayXXd shifted = batch.cast<double>().colwise() - mean_;
+  Eigen::Map<Eigen::VectorXd>(sums->data() + 1, d) = shifted.rowwise().sum().matrix();
+  Eigen::Map<Eigen::VectorXd>(sums->data() + 1 + d, d) = shifted.square().rowwise().sum().matrix();
+}
+
+void RunningNormalizer::foldSums(const std::vector<double>& sums) {
+  const Eigen::Index d = mean_.size();
+  if (sums.size() != size_t(1 + 2 * d)) throw std::invalid_argument("RunningNormalizer::foldSums: wrong size");
+  const double n = sums[0];
+  if (n == 0) return;
+  const Eigen::VectorXd shift = Eigen::Map<const Eigen::VectorXd>(sums.data() + 1, d) / n;
+  const Eigen::VectorXd batchMean = mean_ + shift;
+  const Eigen::VectorXd batchVar =
+      (Eigen::Map<const Eigen::VectorXd>(sums.data() + 1 + d, d) / n - shift.cwiseAbs2()).cwiseMax(0.0);
+  combine(n, batchMean, batchVar);
 }
 
 void RunningNormalizer::normalize(const Eigen::MatrixXf& x, Eigen::MatrixXf* out) const {

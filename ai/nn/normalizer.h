@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace ai {
 
@@ -23,6 +24,11 @@ class RunningNormalizer {
 
   /// Folds a batch (size x batch, one column per sample) into the statistics.
   void update(const Eigen::MatrixXf& batch);
+  /// A batch spread over processes (data-parallel training): each computes its columns' sums about the current mean
+  /// (the same everywhere), the sums are added up, and foldSums folds the whole batch in as update() would (equal up to
+  /// rounding). sums gets 1 + 2 size() entries: the count, then sum(x - mean) and sum((x - mean)^2) per feature.
+  void batchSums(const Eigen::MatrixXf& batch, std::vector<double>* sums) const;
+  void foldSums(const std::vector<double>& sums);
   /// out = clamp((x - mean) / sqrt(var + 1e-8), -clip, clip), column by column. out may not alias x.
   void normalize(const Eigen::MatrixXf& x, Eigen::MatrixXf* out) const;
 
@@ -56,6 +62,8 @@ class RunningNormalizer {
 
  private:
   void refreshCache();  // recomputes the float mean and 1/std used by normalize
+  // Chan et al.'s combination of the statistics with a batch of n samples' mean and (biased) variance
+  void combine(double n, const Eigen::VectorXd& batchMean, const Eigen::VectorXd& batchVar);
 
   Eigen::VectorXd mean_, var_;
   double count_ = kInitialCount;

@@ -97,9 +97,6 @@ Trainer::Trainer(VecEnv& env, const PpoConfig& config, TrainerOptions options)
       localOf[size_t(c)] = n;
     }
     updater_.setRanks(&comm_, std::move(localOf));
-    std::vector<float> mine(columns_.begin(), columns_.end()), every(static_cast<size_t>(runEnvs));
-    comm_.gather(mine.data(), mine.size(), every.data());
-    gatheredColumns_.assign(every.begin(), every.end());
   }
   policy_ = makePolicyState(config_, env_.observationSize(), env_.actionSize(), options_.seed);
   rng_.seed(splitMix64(options_.seed ^ kTrainerRngSalt));
@@ -144,18 +141,6 @@ std::vector<std::string> Trainer::logColumns() const {
   return c;
 }
 
-const Eigen::MatrixXf& Trainer::runObservations() {
-  if (comm_.size() == 1) return obs_;
-  // every rank's block in rank order, each column put at its run column: the matrix one process would have
-  const int envs = env_.numEnvs(), rows = int(obs_.rows());
-  gathered_.resize(rows, envs * comm_.size());
-  comm_.gather(obs_.data(), size_t(obs_.size()), gathered_.data());
-  runObs_.resize(rows, env_.globalEnvs());
-  for (size_t k = 0; k < gatheredColumns_.size(); ++k)
-    runObs_.col(gatheredColumns_[k]) = gathered_.col(Eigen::Index(k));
-  return runObs_;
-}
-
 void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
   const int envs = env_.numEnvs(), steps = stepsPerEnv_;
   const int obsSize = env_.observationSize();
@@ -172,7 +157,15 @@ void Trainer::collectRollout(RolloutStats* stats, Timing* timing) {
     // batched inference: one forward of actor and critic for all environments
     const Clock::time_point t0 = Clock::now();
     requireFinite(obs_, "observation", iteration_, t);
-    if (config_.normalizeObservations && !options_.freezeNormalizer) policy_.normalizer.update(runObservations());
+    if (config_.normalizeObservations && !options_.freezeNormalizer) {
+      if (comm_.size() == 1) {
+        policy_.normalizer.update(obs_);
+      } else {  // every rank's observations: their sums about the mean, added up (173 doubles, whatever the ranks)
+        policy_.normalizer.batchSums(obs_, &normalizerSums_);
+        comm_.sum(normalizerSums_.data(), normalizerSums_.size());
+        policy_.normalizer.foldSums(normalizerSums_);
+      }
+    }
     policy_.normalizer.normalize(obs_, &normObs_);
     mlpForward(policy_.actor, normObs_, &mean_);
     mlpForward(policy_.critic, normObs_, &values_);

@@ -123,8 +123,6 @@ class Trainer {
   struct RolloutStats;
 
   void collectRollout(RolloutStats* stats, Timing* timing);
-  // this step's observations of the run's every environment (this rank's own on one process)
-  const Eigen::MatrixXf& runObservations();
   void writeCheckpoint(const std::string& path) const;
   void resumeFromCheckpoint(double* wallOffset);
   std::string logRow(const TrainerProgress& p, const RolloutStats& r, double lr, double wall, double stepsPerSecond,
@@ -134,8 +132,7 @@ class Trainer {
   PpoConfig config_;
   TrainerOptions options_;
   const dist::Comm& comm_;
-  std::vector<int> columns_;          // the run's column of each of this rank's environments
-  std::vector<int> gatheredColumns_;  // several ranks: the run's column of each gathered one (rank order)
+  std::vector<int> columns_;  // the run's column of each of this rank's environments
   int stepsPerEnv_ = 0;
   PolicyState policy_;
   PpoUpdater updater_;
@@ -151,7 +148,8 @@ class Trainer {
   // rollout scratch, reused every step
   StepResult step_;
   Eigen::MatrixXf obs_, normObs_, mean_, actions_, values_, finalObs_, finalNorm_, finalValues_;
-  Eigen::MatrixXf runObs_, gathered_, noise_;  // several ranks: every rank's observations, in the run's order
+  Eigen::MatrixXf noise_;               // several ranks: the action noise of all the run's environments
+  std::vector<double> normalizerSums_;  // several ranks: this step's observation sums, then every rank's
 };
 
 }  // namespace ai

@@ -73,3 +73,27 @@ TEST(RunningNormalizer, BranchAdaptationNeutralisesFeaturesTheParentNeverSawVary
   n.normalize(x, &out);
   EXPECT_NEAR(out(1, 0), 0.7f, 1e-4);  // not 0.7 / 1e-4, clipped to 5
 }
+
+TEST(RunningNormalizer, ABatchFoldedFromItsPartsSumsEqualsOneUpdateOnIt) {
+  // the data-parallel path: two halves (two ranks) summed about the running mean, folded in once
+  ai::RunningNormalizer parts(2), whole(2);
+  Eigen::MatrixXf first(2, 4), second(2, 4);
+  first << 1, 2, 3, 4, 10, 10, 10, 14;  // feature 0: mean 2.5, variance 1.25; feature 1: mean 11, variance 3
+  second << 5, 6, 7, 8, -1, 1, -1, 1;
+  for (const Eigen::MatrixXf* batch : {&first, &second}) {
+    std::vector<double> left, right;
+    parts.batchSums(batch->leftCols(2), &left);
+    parts.batchSums(batch->rightCols(2), &right);
+    for (size_t k = 0; k < left.size(); ++k) left[k] += right[k];
+    EXPECT_EQ(left[0], 4.0);  // the count
+    parts.foldSums(left);
+    whole.update(*batch);
+  }
+  EXPECT_NEAR(whole.mean()[0], 4.5, 1e-4);  // 1..8 (the prior's count 1e-4 is all but nothing)
+  EXPECT_NEAR(whole.variance()[0], 5.25, 1e-3);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_NEAR(parts.mean()[k], whole.mean()[k], 1e-6);
+    EXPECT_NEAR(parts.variance()[k], whole.variance()[k], 1e-9);
+  }
+  EXPECT_DOUBLE_EQ(parts.count(), whole.count());
+}

@@ -7,6 +7,7 @@
 //   largest difference D        (ranks' update against the single process's, over every weight)
 //   largest weight W
 //   approx kl K_ranks K_single
+//   normaliser difference V     (its mean and variance from every rank's sums, against one update on all columns)
 // and exits 0, or 2 with a message if something throws.
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,7 @@
 
 #include "ai/dist/comm.h"
 #include "ai/nn/byte_io.h"
+#include "ai/nn/normalizer.h"
 #include "ai/ppo/checkpoint.h"
 #include "ai/ppo/ppo.h"
 #include "engine/core/hash.h"
@@ -96,9 +98,24 @@ int check() {
   appendTensor(&single.logStd, &sa);
   double diff = 0, largest = 0;
   compare(ra, sa, &diff, &largest);
+  // the normaliser: two batches of the 8 environments' observations, each folded in from the ranks' sums
+  RunningNormalizer overSums(obsSize), onAll(obsSize);
+  for (int step = 0; step < 2; ++step) {
+    Eigen::MatrixXf batch(obsSize, envs);
+    for (Eigen::Index i = 0; i < batch.size(); ++i) batch.data()[i] = 3.0f + 2.0f * normal(draw);
+    std::vector<double> sums;
+    overSums.batchSums(batch.middleCols(share.first, share.count), &sums);
+    comm.sum(sums.data(), sums.size());
+    overSums.foldSums(sums);
+    onAll.update(batch);
+  }
+  const double normaliserDiff = std::max((overSums.mean() - onAll.mean()).cwiseAbs().maxCoeff(),
+                                         float((overSums.variance() - onAll.variance()).cwiseAbs().maxCoeff()));
   if (comm.isRoot()) {
-    std::printf("ranks %d\nranks agree %d\nlargest difference %.6g\nlargest weight %.6g\napprox kl %.9g %.9g\n",
-                comm.size(), agree ? 1 : 0, diff, largest, a.approxKl, b.approxKl);
+    std::printf(
+        "ranks %d\nranks agree %d\nlargest difference %.6g\nlargest weight %.6g\napprox kl %.9g %.9g\n"
+        "normaliser difference %.6g\n",
+        comm.size(), agree ? 1 : 0, diff, largest, a.approxKl, b.approxKl, normaliserDiff);
     std::fflush(stdout);
   }
   return 0;
