@@ -15,7 +15,7 @@ ai/ppo/trainer.cpp):
     themselves instead (86 floats per environment; (N-1)/N x bytes / bandwidth plus log2 N latencies), which would
     give every rank the exact batch one process sees.
 Networks: 10 Gbit/s Ethernet (20 us latency) and 100 Gbit/s InfiniBand-class (3 us). A rank of k cores computes k
-times as fast as one core (optimistic: two threads here give 1.79x). Two regimes:
+times as fast as one core (optimistic: two threads here give 1.84x). Two regimes:
   weak           every rank keeps 10 environments x 1,024 steps (the run's buffer and minibatches grow with N);
   weak-per-core  10 environments per core of the rank (a larger batch per rank);
   strong         the run's buffer stays 20,480 samples of 20 environments (N <= 20).
