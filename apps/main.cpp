@@ -730,9 +730,10 @@ int main(int argc, char** argv) {
   const ai::dist::Comm* comm = nullptr;  // the ranks, under mpirun
   try {
     comm = &ai::dist::world();
-    if (comm->size() > 1 && !(*trainCmd && !train.exportOnly) && !*multitaskCmd)
-      throw engine::Error("under mpirun only train and multitask run across ranks (" + std::to_string(comm->size()) +
-                          " started): run this command without mpirun");
+    const bool card = *evalCmd && eval.skill != "switches" && eval.skill != "all";
+    if (comm->size() > 1 && !(*trainCmd && !train.exportOnly) && !*multitaskCmd && !card)
+      throw engine::Error("under mpirun only train, multitask and eval SKILL (a card) run across ranks (" +
+                          std::to_string(comm->size()) + " started): run this command without mpirun");
     robot::setSkillTreePath(treeFile);
     play.seedGiven = playCmd->count("--seed") > 0;
     if (*playCmd) return cmdPlay(play);

@@ -46,13 +46,14 @@ struct PrintedCard {
 };
 PrintedCard printCard(const ai::SkillContext& l, const ai::PolicyFn& act, const ai::CardRun& run,
                       const std::string& modelShown, const std::string& hash) {
+  // under mpirun every rank runs its share of the episodes and gets the same figures; rank 0 prints them
+  const bool root = !run.comm || run.comm->isRoot();
   const std::string head = ai::cardHead(l, run, modelShown, hash);
-  std::fputs(head.c_str(), stdout);
-  std::fflush(stdout);
+  if (root) std::fputs(head.c_str(), stdout), std::fflush(stdout);
   PrintedCard c;
   c.result = ai::runSkillCard(l, act, run, ai::loadCardDrivers(l, l.tree.directory));
   const std::string figures = ai::cardText(c.result);
-  std::fputs(figures.c_str(), stdout);
+  if (root) std::fputs(figures.c_str(), stdout);
   c.text = head + figures;
   return c;
 }
@@ -137,6 +138,10 @@ int runEval(const EvalOptions& o) {
       *a = Eigen::MatrixXf::Zero(robot::kActionSize, obs.cols());
     }
   };
+  const ai::dist::Comm& comm = ai::dist::world();
+  if (comm.size() > 1 && (o.rewards > 0 || o.sweep))
+    throw engine::Error(
+        "under mpirun eval runs a report card (its episodes shared by the ranks): not --rewards or --sweep");
   if (o.rewards > 0) {
     if (o.priorOnly || o.sweep)
       throw engine::Error("eval --rewards measures a model: it takes no --prior-only or --sweep");
@@ -172,7 +177,7 @@ int runEval(const EvalOptions& o) {
     }
     return 0;
   }
-  ai::CardRun run{def, o.seed, o.threads};
+  ai::CardRun run{def, o.seed, o.threads, &comm};
   if (o.episodes > 0) run.card.episodes = o.episodes;
   if (o.steer >= 0) {
     if (ai::StairsCard* stairs = run.card.as<ai::StairsCard>())
@@ -188,7 +193,7 @@ int runEval(const EvalOptions& o) {
   const ai::CardResult& r = card.result;
   // the shipped model's card with the card's own episodes and seed is kept next to it (for `treelearn tree`);
   // a record of the same model file must come out identical: training other skills never changes a skill
-  if (policy && o.model.empty() && o.episodes == 0 && o.seed == 1) {
+  if (policy && o.model.empty() && o.episodes == 0 && o.seed == 1 && comm.isRoot()) {
     const std::string record = cardRecordPath(l.tree, *l.skill);
     const bool same = std::filesystem::exists(record) &&
                       engine::readFile(record).find(engine::toHex(ai::onnxFileHash(onnxPath))) != std::string::npos;

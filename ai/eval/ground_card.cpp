@@ -9,6 +9,7 @@
 #include <random>
 
 #include "ai/env/terrain.h"
+#include "ai/eval/card_ranks.h"
 #include "engine/core/error.h"
 #include "engine/core/worker_pool.h"
 #include "engine/loop/clock.h"
@@ -68,13 +69,28 @@ struct Episode {
   robot::FallCause fallCause = robot::FallCause::None;
 };
 
+// what the figures read of an episode: a plain struct, gathered from the ranks that ran the episodes
+struct Outcome {
+  int standTick, handOverTick, reachTick, longestStall;
+  bool lyingAtSwitch, outside;
+  Stage fellIn;
+  robot::FallCause fallCause;
+  RiseCounter torso, chest;
+  double best, side, offset, headingOff;
+};
+
+Outcome outcomeOf(const Episode& e) {
+  return {e.standTick, e.handOverTick, e.reachTick, e.longestStall, e.lyingAtSwitch, e.outside, e.fellIn,
+          e.fallCause, e.torso,        e.chest,     e.best,         e.side,          e.offset,  e.headingOff};
+}
+
 }  // namespace
 
 namespace {
 CardResult pushUpResult(const SkillSpec& skill, const CardDef& o, const DrivingSkill& parent,
-                        const std::vector<Episode>& eps);
+                        const std::vector<Outcome>& eps);
 CardResult crawlResult(const SkillSpec& skill, const CardDef& o, const DrivingSkill& parent,
-                       const std::vector<Episode>& eps);
+                       const std::vector<Outcome>& eps);
 }  // namespace
 
 CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill, const PolicyFn& policy,
@@ -91,10 +107,16 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
                         (standUp ? std::string(" and of its up skill") : std::string()));
   engine::WorkerPool pool(run.threads);
   std::mt19937_64 seeder(run.seed);
-  const int n = o.episodes;
+  static const dist::Comm single;
+  const dist::Comm& comm = run.comm ? *run.comm : single;
+  // every episode's seed as one process draws them; this rank runs its share (all of them on one process)
+  std::vector<uint64_t> seeds(size_t(o.episodes));
+  for (uint64_t& s : seeds) s = seeder();
+  const EpisodeShare share = episodeShare(o.episodes, comm);
+  const int n = share.count;
   std::vector<Episode> eps(static_cast<size_t>(n));
   const RandomisationDef& r = skill.randomisation;
-  for (Episode& e : eps) e.rng.seed(seeder());
+  for (int k = 0; k < n; ++k) eps[size_t(k)].rng.seed(seeds[size_t(share.first + k)]);
   pool.parallelFor(n, [&](int i) {
     Episode& e = eps[size_t(i)];
     e.model = model;
@@ -123,6 +145,8 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
   set.skills.push_back({skill, policy});
   if (standUp) set.skills.push_back({*up.def, up.policy});
   const robot::Skill& measured = set.skills[1];
+  std::vector<PolicyFn> batchPolicy;  // each skill's, run on every rank's episodes at once (card_ranks.h)
+  for (const robot::Skill& sk : set.skills) batchPolicy.push_back(policyOverRanks(sk.policy, comm, o.episodes));
   for (Episode& e : eps) robot::enterSkill(&e.state, set.skills[0], e.sensors, 0);
   Eigen::MatrixXf obs(robot::kObservationSize, n);
   Eigen::MatrixXf act[3];
@@ -138,9 +162,11 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
       any[driver(e)] = true;
       robot::observe(model, e.state, e.sensors, *e.world, e.stage == kRising ? e.command : still, obs.col(i).data());
     }
+    if (comm.size() > 1)  // the batch is every rank's: a skill acts if it drives an episode on any rank
+      for (bool& a : any) a = comm.any(a);
     if (!any[0] && !any[1] && !any[2]) break;
     for (size_t k = 0; k < set.skills.size(); ++k)
-      if (any[k]) set.skills[k].policy(obs, &act[k]);
+      if (any[k]) batchPolicy[k](obs, &act[k]);
     pool.parallelFor(n, [&](int i) {
       Episode& e = eps[size_t(i)];
       if (e.stage == kDone) return;
@@ -219,15 +245,19 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
     });
   }
 
-  if (crawl) return crawlResult(skill, o, parent, eps);
-  if (!standUp) return pushUpResult(skill, o, parent, eps);
+  std::vector<Outcome> mine;
+  for (const Episode& e : eps) mine.push_back(outcomeOf(e));
+  const std::vector<Outcome> outcomes = gatherOutcomes(mine, comm);
+  if (crawl) return crawlResult(skill, o, parent, outcomes);
+  if (!standUp) return pushUpResult(skill, o, parent, outcomes);
+  const int episodes = int(outcomes.size());  // every rank's
   int handedOver = 0;
   double handOverSeconds = 0;
-  for (const Episode& e : eps)
+  for (const Outcome& e : outcomes)
     if (e.handOverTick >= 0) ++handedOver, handOverSeconds += e.handOverTick * engine::kTickSeconds;
   int success = 0, stood = 0, lying = 0, fellLying = 0, fellRising = 0, fellAfter = 0, side = 0, back = 0, over = 0;
   double seconds = 0, slowest = 0;
-  for (const Episode& e : eps) {
+  for (const Outcome& e : outcomes) {
     lying += e.lyingAtSwitch;
     if (e.standTick >= 0) {
       ++stood;
@@ -245,7 +275,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
     success += e.standTick >= 0 && e.standTick <= riseTicks && e.handOverTick >= 0 && e.fellIn == kDone;
   }
   CardResult res;
-  const double pct = 100.0 / std::max(1, n);
+  const double pct = 100.0 / std::max(1, episodes);
   char name[192];
   std::snprintf(name, sizeof name,
                 "episodes standing (pelvis >= %.2f m, tilt < %.0f deg) within %.1f s, then %s %.0f s up",
@@ -268,7 +298,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
   res.figures.push_back({name, double(fellLying + fellRising + fellAfter), "(reported)", true});
   res.pass = true;
   for (const CardFigure& f : res.figures) res.pass = res.pass && f.pass;
-  res.score = 2.0 * success / std::max(1, n) + double(stood) / std::max(1, n) -
+  res.score = 2.0 * success / std::max(1, episodes) + double(stood) / std::max(1, episodes) -
               (stood ? std::min(1.0, seconds / stood / std::max(0.1, standUpCard->riseSeconds)) : 1.0);
   return res;
 }
@@ -276,12 +306,12 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
 namespace {
 
 CardResult pushUpResult(const SkillSpec& skill, const CardDef& o, const DrivingSkill& parent,
-                        const std::vector<Episode>& eps) {
+                        const std::vector<Outcome>& eps) {
   const PushUpCard& k = *o.as<PushUpCard>();
   const int n = int(eps.size());
   int success = 0, lying = 0, fellLying = 0, fellSkill = 0, cycles = 0, fewest = 1 << 30, done = 0, chestDone = 0;
   double rise = 0, chestRise = 0;
-  for (const Episode& e : eps) {
+  for (const Outcome& e : eps) {
     lying += e.lyingAtSwitch;
     fellLying += e.fellIn == kLying;
     fellSkill += e.fellIn == kRising;
@@ -318,13 +348,13 @@ CardResult pushUpResult(const SkillSpec& skill, const CardDef& o, const DrivingS
 }
 
 CardResult crawlResult(const SkillSpec& skill, const CardDef& o, const DrivingSkill& parent,
-                       const std::vector<Episode>& eps) {
+                       const std::vector<Outcome>& eps) {
   const CrawlCard& k = *o.as<CrawlCard>();
   const int n = int(eps.size());
   const double limit = k.distance / k.speed;  // the slowest that passes [s]
   int success = 0, reached = 0, lying = 0, fellLying = 0, fellSkill = 0, outside = 0, outLeft = 0, crawled = 0;
   double seconds = 0, slowest = 0, stall = 0, progress = 0, side = 0, heading = 0, headingAbs = 0;
-  for (const Episode& e : eps) {
+  for (const Outcome& e : eps) {
     lying += e.lyingAtSwitch;
     outLeft += e.outside && e.offset > 0;
     if (e.fellIn != kLying) ++crawled, heading += e.headingOff, headingAbs += std::abs(e.headingOff);

@@ -9,6 +9,7 @@
 
 #include "ai/env/ball_task.h"
 #include "ai/env/terrain.h"
+#include "ai/eval/card_ranks.h"
 #include "ai/rewards/reward_terms.h"
 #include "engine/core/error.h"
 #include "engine/core/worker_pool.h"
@@ -70,6 +71,35 @@ struct Episode {
   Eigen::Vector3d lastVelocity = Eigen::Vector3d::Zero();
 };
 
+// what the figures read of an episode: a plain struct, gathered from the ranks that ran the episodes
+struct Outcome {
+  bool fallen, fellAfterPush, fellAfterChange, lying;
+  int counted, alive, kindCount[4], longestLift, bestInARow, jumps, leadInFalls, fallKind, fallTick, proneTick;
+  robot::FallCause fallCause;
+  double speedError, yawError, heightError, kindError[4], maxX, headingDown, bestApex, bestKick, peakAcceleration;
+  double landingFrom, landingTo, stairsEnd;  // stairs: where the landing begins and ends, and the staircase's end (x)
+  double x, drift;                           // the pelvis's x at the end, and how far it is from its start (x, y)
+};
+
+Outcome outcomeOf(const Episode& e, bool stairs) {
+  Outcome o{};
+  o.fallen = e.fallen, o.fellAfterPush = e.fellAfterPush, o.fellAfterChange = e.fellAfterChange, o.lying = e.lying;
+  o.counted = e.counted, o.alive = e.alive, o.longestLift = e.longestLift, o.bestInARow = e.bestInARow;
+  o.jumps = e.jumps, o.leadInFalls = e.leadInFalls, o.fallKind = e.fallKind, o.fallTick = e.fallTick;
+  o.proneTick = e.proneTick, o.fallCause = e.fallCause;
+  o.speedError = e.speedError, o.yawError = e.yawError, o.heightError = e.heightError, o.maxX = e.maxX;
+  o.headingDown = e.headingDown, o.bestApex = e.bestApex, o.bestKick = e.bestKick;
+  o.peakAcceleration = e.peakAcceleration;
+  for (int k = 0; k < 4; ++k) o.kindCount[k] = e.kindCount[k], o.kindError[k] = e.kindError[k];
+  if (stairs) {
+    const Eigen::Vector2d landing = stairsLandingX(e.stairs.terrain);
+    o.landingFrom = landing.x(), o.landingTo = landing.y(), o.stairsEnd = terrainEndX(e.stairs.terrain);
+  }
+  o.x = e.sensors.basePosition.x();
+  o.drift = (e.sensors.basePosition.head<2>() - e.start).norm();
+  return o;
+}
+
 // what a batch does: walking episodes randomise friction, mass and pushes and resample commands; standing and
 // sweep episodes do neither (a sweep keeps the command each episode was given)
 enum class Mode { kWalking, kStanding, kSweep };
@@ -98,9 +128,11 @@ void sampleCommand(const DrivenCard& card, Episode& e) {
 int commandKind(const robot::SkillCommand& c) { return c.vx != 0 ? 0 : c.vy != 0 ? 1 : c.wz != 0 ? 2 : 3; }
 
 // runs a batch of episodes of `ticks` ticks; standing episodes keep a zero command and no pushes
-void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const PolicyFn& policy, const CardDef& o,
-              std::vector<Episode>& eps, int ticks, Mode mode, engine::WorkerPool& pool,
-              const std::vector<HandoverStage>& leadIn) {
+// batchPolicy acts for the batch each tick (policy itself, or policy over the ranks: card_ranks.h); policy is the
+// measured skill's as a lead-in hands over to it
+void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const PolicyFn& policy,
+              const PolicyFn& batchPolicy, const CardDef& o, std::vector<Episode>& eps, int ticks, Mode mode,
+              engine::WorkerPool& pool, const std::vector<HandoverStage>& leadIn) {
   const DrivenCard& d = *o.driven();
   const KickCard* kickCard = o.as<KickCard>();  // the kinds whose figures runBatch measures as it goes
   const JumpCard* jumpCard = o.as<JumpCard>();
@@ -189,7 +221,7 @@ void runBatch(const robot::RobotModel& model, const SkillSpec& walk, const Polic
       }
       robot::observe(model, e.state, e.sensors, *e.world, e.command, obs.col(i).data());
     }
-    policy(obs, &act);
+    batchPolicy(obs, &act);
     pool.parallelFor(n, [&](int i) {
       Episode& e = eps[size_t(i)];
       if (e.fallen) return;
@@ -302,15 +334,27 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   const DrivenCard& d = *o.driven();
   engine::WorkerPool pool(run.threads);
   std::mt19937_64 seeder(run.seed);
+  static const dist::Comm single;
+  const dist::Comm& comm = run.comm ? *run.comm : single;
+  const bool onStairs = o.as<StairsCard>() != nullptr;
 
-  std::vector<Episode> walking(size_t(o.episodes));
-  for (Episode& e : walking) e.rng.seed(seeder());
-  runBatch(model, skill, policy, o, walking, int(std::lround(d.episodeSeconds / engine::kTickSeconds)), Mode::kWalking,
-           pool, leadIn);
-  std::vector<Episode> standing(size_t(d.standEpisodes));
-  for (Episode& e : standing) e.rng.seed(seeder());
-  runBatch(model, skill, policy, o, standing, int(std::lround(d.standSeconds / engine::kTickSeconds)), Mode::kStanding,
-           pool, {});
+  // every episode's seed, as one process draws them; this rank runs its share, and the outcomes of all are gathered
+  std::vector<uint64_t> walkingSeeds(size_t(o.episodes)), standingSeeds(size_t(d.standEpisodes));
+  for (uint64_t& s : walkingSeeds) s = seeder();
+  for (uint64_t& s : standingSeeds) s = seeder();
+  auto runShare = [&](const std::vector<uint64_t>& seeds, double seconds, Mode mode,
+                      const std::vector<HandoverStage>& stages) {
+    const EpisodeShare share = episodeShare(int(seeds.size()), comm);
+    std::vector<Episode> mine(size_t(share.count));
+    for (int k = 0; k < share.count; ++k) mine[size_t(k)].rng.seed(seeds[size_t(share.first + k)]);
+    runBatch(model, skill, policy, policyOverRanks(policy, comm, int(seeds.size())), o, mine,
+             int(std::lround(seconds / engine::kTickSeconds)), mode, pool, stages);
+    std::vector<Outcome> outcomes;
+    for (const Episode& e : mine) outcomes.push_back(outcomeOf(e, onStairs));
+    return gatherOutcomes(outcomes, comm);
+  };
+  const std::vector<Outcome> walking = runShare(walkingSeeds, d.episodeSeconds, Mode::kWalking, leadIn);
+  const std::vector<Outcome> standing = runShare(standingSeeds, d.standSeconds, Mode::kStanding, {});
 
   double kindError[4] = {0, 0, 0, 0};
   long kindCount[4] = {0, 0, 0, 0};
@@ -318,7 +362,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   double speed = 0, yaw = 0, survival = 0, height = 0;
   const double walkTicks = std::lround(d.episodeSeconds / engine::kTickSeconds);
   long counted = 0;
-  for (const Episode& e : walking) {
+  for (const Outcome& e : walking) {
     upright += !e.fallen;
     speed += e.speedError;
     yaw += e.yawError;
@@ -332,8 +376,8 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   }
   double drift = 0;
   int standFalls = 0;
-  for (const Episode& e : standing) {
-    drift = std::max(drift, (e.sensors.basePosition.head<2>() - e.start).norm());
+  for (const Outcome& e : standing) {
+    drift = std::max(drift, e.drift);
     standFalls += e.fallen;
   }
   CardResult r;
@@ -360,7 +404,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   const double meanHeight = counted ? height / double(counted) : 1e9;
   if (!leadIn.empty()) {  // how often the way in (not the skill) fell and was drawn again
     int again = 0, lost = 0;
-    for (const Episode& e : walking) again += e.leadInFalls, lost += e.leadInFalls >= 5;
+    for (const Outcome& e : walking) again += e.leadInFalls, lost += e.leadInFalls >= 5;
     r.figures.push_back({"lead-ins that fell and were drawn again (5 in a row: the episode counts as a fall)",
                          double(again), "(reported)", true});
     if (lost > 0) r.figures.push_back({"episodes lost to their lead-in", double(lost), "(reported)", true});
@@ -369,7 +413,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   if (const KickCard* kick = o.as<KickCard>()) {
     int success = 0;
     double best = 0;
-    for (const Episode& e : walking) {
+    for (const Outcome& e : walking) {
       success += !e.fallen && e.bestKick >= kick->speed;
       best += e.bestKick / std::max(1, o.episodes);
     }
@@ -382,7 +426,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   if (const JumpCard* jump = o.as<JumpCard>()) {
     int success = 0;
     double jumps = 0, apex = 0;
-    for (const Episode& e : walking) {
+    for (const Outcome& e : walking) {
       success += !e.fallen && e.bestInARow >= jump->jumps;
       jumps += double(e.jumps) / std::max(1, o.episodes);
       apex += e.bestApex / std::max(1, o.episodes);
@@ -398,8 +442,8 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   if (const StairsCard* stairs = o.as<StairsCard>()) {
     int across = 0;
     double progress = 0;
-    for (const Episode& e : walking) {
-      const double end = terrainEndX(e.stairs.terrain);
+    for (const Outcome& e : walking) {
+      const double end = e.stairsEnd;
       across += !e.fallen && e.maxX > end;
       progress += std::clamp(e.maxX / end, 0.0, 1.0) / std::max(1, o.episodes);
     }
@@ -415,7 +459,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
     r.figures.push_back({"mean progress along the stairs", 100.0 * progress, "(reported) %", true});
     double heading = 0;
     int down = 0;
-    for (const Episode& e : walking)
+    for (const Outcome& e : walking)
       if (e.headingDown >= 0) heading += e.headingDown * 180.0 / M_PI, ++down;
     if (down > 0)  // (no figure when no episode got there: a 0 would read as squared up)
       r.figures.push_back(
@@ -425,7 +469,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   if (const BalanceCard* balance = o.as<BalanceCard>()) {
     int success = 0;
     double longest = 0;
-    for (const Episode& e : walking) {
+    for (const Outcome& e : walking) {
       success += !e.fallen && e.longestLift * engine::kTickSeconds >= balance->liftSeconds;
       longest += e.longestLift * engine::kTickSeconds / std::max(1, o.episodes);
     }
@@ -439,7 +483,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
     int success = 0, reached = 0;
     double seconds = 0, peak = 0, meanPeak = 0;
     const int limit = int(std::lround(prone->seconds / engine::kTickSeconds));
-    for (const Episode& e : walking) {
+    for (const Outcome& e : walking) {
       const bool inTime = e.proneTick >= 0 && e.proneTick <= limit;
       success += !e.fallen && inTime && e.lying;
       if (e.proneTick >= 0) ++reached, seconds += e.proneTick * engine::kTickSeconds;
@@ -454,7 +498,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
     r.figures.push_back({"mean time to lying [s]", reached ? seconds / reached : 1e9, "(reported)", true});
     int side = 0, back = 0, over = 0;
     double fallSeconds = 0;
-    for (const Episode& e : walking) {
+    for (const Outcome& e : walking) {
       if (!e.fallen) continue;
       side += e.fallCause == robot::FallCause::Side;
       back += e.fallCause == robot::FallCause::Back;
@@ -481,7 +525,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   r.figures.push_back({"mean time survived (of each episode)", 100.0 * survival, "(reported) %", true});
   if (moves && upright < o.episodes) {
     int byKind[4] = {0, 0, 0, 0}, afterPush = 0, afterChange = 0;
-    for (const Episode& e : walking)
+    for (const Outcome& e : walking)
       if (e.fallen) ++byKind[e.fallKind], afterPush += e.fellAfterPush, afterChange += e.fellAfterChange;
     char name[160];
     std::snprintf(name, sizeof name,
@@ -492,19 +536,17 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
     const int segmentTicks = std::max(1, int(std::lround(d.segmentSeconds / engine::kTickSeconds)));
     const int segments = std::max(1, int(std::ceil(d.episodeSeconds / std::max(1e-9, d.segmentSeconds) - 1e-9)));
     std::vector<int> bySegment(size_t(segments), 0);
-    for (const Episode& e : walking)
+    for (const Outcome& e : walking)
       if (e.fallen) ++bySegment[size_t(std::min(segments - 1, (e.fallTick - 1) / segmentTicks))];
     std::string when = "  falls per command segment:";
     for (int k = 0; k < segments; ++k) when += (k ? ", " : " ") + std::to_string(bySegment[size_t(k)]);
     r.figures.push_back({when, double(o.episodes - upright), "(reported)", true});
     if (o.as<StairsCard>()) {          // where: by the pelvis's x when it fell
       int where[5] = {0, 0, 0, 0, 0};  // before, up, landing, down, beyond
-      for (const Episode& e : walking) {
+      for (const Outcome& e : walking) {
         if (!e.fallen) continue;
-        const Eigen::Vector2d landing = stairsLandingX(e.stairs.terrain);
-        const double end = terrainEndX(e.stairs.terrain);
-        const double x = e.sensors.basePosition.x();
-        ++where[x < skill.terrain.startX ? 0 : x < landing.x() ? 1 : x < landing.y() ? 2 : x < end ? 3 : 4];
+        const double x = e.x;
+        ++where[x < skill.terrain.startX ? 0 : x < e.landingFrom ? 1 : x < e.landingTo ? 2 : x < e.stairsEnd ? 3 : 4];
       }
       char at[160];
       std::snprintf(at, sizeof at, "  falls by place: before the stairs %d, up %d, landing %d, down %d, beyond %d",
@@ -541,7 +583,8 @@ std::vector<SweepRow> runSpeedSweep(const robot::RobotModel& model, const SkillS
   CardDef o;
   o.card = VelocityCard{};
   o.driven()->segmentSeconds = seconds + 1;
-  runBatch(model, walk, policy, o, eps, int(std::lround(seconds / engine::kTickSeconds)), Mode::kSweep, pool, {});
+  runBatch(model, walk, policy, policy, o, eps, int(std::lround(seconds / engine::kTickSeconds)), Mode::kSweep, pool,
+           {});
   std::vector<SweepRow> rows;
   for (const Episode& e : eps) {
     SweepRow r;

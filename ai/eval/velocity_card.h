@@ -22,6 +22,9 @@ struct CardRun {
   CardDef card;
   uint64_t seed = 1;
   int threads = 2;
+  /// Under mpirun, the ranks that share the card's episodes (ai/eval/card_ranks.h; every rank gets the same figures,
+  /// the bits one process gets); null: one process.
+  const dist::Comm* comm = nullptr;
 };
 
 /// One line of a card.

@@ -393,12 +393,12 @@ void Trainer::run() {
 
     // evaluate; keep the best policy
     TrainerProgress p;
-    if (root && options_.evaluate && (iteration_ % options_.evalEvery == 0 || last)) {
-      p.evalScore = options_.evaluate(policy_);
+    if (options_.evaluate && (iteration_ % options_.evalEvery == 0 || last)) {  // on every rank (a card shares
+      p.evalScore = options_.evaluate(policy_);  // its episodes), the same score everywhere
       if (p.evalScore > bestScore_) {
         bestScore_ = p.evalScore;
         PolicyInfo info{ppoConfigHash(config_), iteration_, envSteps_, p.evalScore};
-        savePolicyState(options_.runDir + "/best.bin", policy_, info);
+        if (root) savePolicyState(options_.runDir + "/best.bin", policy_, info);
       }
     }
 

@@ -59,8 +59,9 @@ struct TrainerOptions {
   /// The ranks training this run together (ai/dist/comm.h); null: one process. The env steps this rank's share of
   /// the run's environments (VecEnv::globalEnvs, globalColumn). Every rank keeps the same policy, normaliser, optimiser
   /// and random streams: the normaliser is updated from every rank's observations, the action noise drawn for all
-  /// environments, the update's sums taken over the ranks. Rank 0 alone writes the log and checkpoints and evaluates;
-  /// every rank reads the checkpoint on --resume. Must outlive the trainer.
+  /// environments, the update's sums taken over the ranks. evaluate is called on every rank (it must give every rank
+  /// the same score: a card run over the ranks does); rank 0 alone writes the log, checkpoints and best.bin, and every
+  /// rank reads the checkpoint on --resume. Must outlive the trainer.
   const dist::Comm* comm = nullptr;
   /// Keep the observation normaliser's statistics as loaded (a fine-tune on new states: the kick taking the walk's
   /// stopped robot moved a 1e5-count normaliser within 3 iterations and the deterministic policy no longer kicked).

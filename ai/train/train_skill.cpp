@@ -172,7 +172,7 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
     drivers = loadCardDrivers(l, modelsDir);
     // one card on the policy in memory: `label` heads its line, `what` names the card in its verdict
     auto scoreOn = [&](const PolicyState& p, uint64_t seed, int episodes, const char* label, const char* what) {
-      CardRun card{skill.card, seed, o.threads};
+      CardRun card{skill.card, seed, o.threads, &comm};  // every rank runs its share of the episodes
       card.card.episodes = episodes;
       if (DrivenCard* driven = card.card.driven()) driven->standEpisodes = std::min(4, driven->standEpisodes);
       const CardResult r = runSkillCard(

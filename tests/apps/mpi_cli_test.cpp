@@ -1,6 +1,7 @@
-// mpi_cli_test.cpp — training over MPI ranks (ai/dist/comm.h) as a user starts it, `mpirun -np N build/treelearn
-// train ...`: the ranks end in step, a run is the same run to run and after a resume, one rank is the run without
-// mpirun bit for bit, and the ranks' update is the single process's update on all their samples. Built when the
+// mpi_cli_test.cpp — training and cards over MPI ranks (ai/dist/comm.h) as a user starts them, `mpirun -np N
+// build/treelearn train|multitask|eval ...`: the ranks end in step, a run is the same run to run and after a resume,
+// one rank is the run without mpirun bit for bit, the ranks' update is the single process's update on all their
+// samples, and a card shared by the ranks is the recorded card to the bit. Built when the
 // project is built with MPI (scripts/setup.sh builds it so); Open MPI's settings for root and containers are given
 // here.
 #ifdef TREELEARN_MPI_TESTS
@@ -91,13 +92,41 @@ TEST(MpiCli, TheMultiTaskNetworkTrainsOverTwoRanks) {
   EXPECT_EQ(engine::readFile(dir + "/skills.txt"), "walk\nsquat\n");
 }
 
+TEST(MpiCli, ACardSharedByTheRanksIsTheRecordedCardToTheBit) {
+  // the ranks step their episodes' physics, the policy acts on all episodes at once: the figures are one process's,
+  // so the retention check against the shipped model's recorded card passes (3 ranks: 10 episodes split 3, 3, 4)
+  for (const char* skill : {"one_leg", "pushup"}) {
+    for (int ranks : {2, 3}) {
+      const CliRun r = mpirun(ranks, std::string("eval ") + skill);
+      ASSERT_EQ(r.code, 0) << r.out;
+      EXPECT_NE(r.out.find("identical to the card recorded for this model"), std::string::npos) << r.out;
+      EXPECT_EQ(r.out.find("CARD PASSED"), r.out.rfind("CARD PASSED")) << "printed by one rank only:\n" << r.out;
+    }
+  }
+}
+
+TEST(MpiCli, TheTrainingCardIsSharedByTheRanksAndTheBestIsKept) {
+  const std::string dir = cli::tempDir("mpi", "eval");
+  const CliRun r =
+      mpirun(2, "train walk --envs 4 --threads 1 --steps 20480 --eval-every 1 --eval-episodes 3 --run-dir " + dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("  eval: "), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("  eval: "), r.out.rfind("  eval: ")) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/best.bin"));
+  EXPECT_NE(r.out.find("best-by-evaluation policy"), std::string::npos) << r.out;
+}
+
 TEST(MpiCli, EnvironmentsThatTheRanksCannotShareAndCommandsThatDoNotRunOnRanksAreRefused) {
   const CliRun uneven = mpirun(2, "train walk --envs 5 --steps 20480 --run-dir " + cli::tempDir("mpi", "uneven"));
   EXPECT_NE(uneven.code, 0) << uneven.out;
   EXPECT_NE(uneven.out.find("5 environments cannot be shared evenly by 2 ranks"), std::string::npos) << uneven.out;
   const CliRun play = mpirun(2, "play levels/flat --seconds 1");
   EXPECT_NE(play.code, 0) << play.out;
-  EXPECT_NE(play.out.find("only train and multitask run across ranks"), std::string::npos) << play.out;
+  EXPECT_NE(play.out.find("only train, multitask and eval SKILL (a card) run across ranks"), std::string::npos)
+      << play.out;
+  const CliRun rewards = mpirun(2, "eval walk --rewards 1");
+  EXPECT_NE(rewards.code, 0) << rewards.out;
+  EXPECT_NE(rewards.out.find("under mpirun eval runs a report card"), std::string::npos) << rewards.out;
 }
 
 }  // namespace
