@@ -60,20 +60,18 @@ TEST(MpiCli, TwoRanksTrainTheWalkInStepTheSameRunToRunAndAfterAResume) {
   EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 3) << log;  // the header and 2 iterations, written once
   ASSERT_TRUE(std::filesystem::exists(dir + "/a/walk.onnx"));
 
-  const CliRun b = mpirun(2, common + dir + "/b --steps 40960");
-  ASSERT_EQ(b.code, 0) << b.out;
+  // the same run again, in two parts: run to run and across a resume, the same policy
   const CliRun c1 = mpirun(2, common + dir + "/c --steps 20480");
   ASSERT_EQ(c1.code, 0) << c1.out;
   const CliRun c2 = mpirun(2, common + dir + "/c --steps 40960 --resume");
   ASSERT_EQ(c2.code, 0) << c2.out;
   const std::string policy = engine::readFile(dir + "/a/walk.policy.bin", engine::kMaxModelFileBytes);
-  EXPECT_TRUE(policy == engine::readFile(dir + "/b/walk.policy.bin", engine::kMaxModelFileBytes)) << "run to run";
-  EXPECT_TRUE(policy == engine::readFile(dir + "/c/walk.policy.bin", engine::kMaxModelFileBytes)) << "resumed";
+  EXPECT_TRUE(policy == engine::readFile(dir + "/c/walk.policy.bin", engine::kMaxModelFileBytes));
 }
 
 TEST(MpiCli, OneRankIsTheRunWithoutMpirunBitForBit) {
   const std::string dir = cli::tempDir("mpi", "one");
-  const std::string common = "train walk --envs 4 --threads 1 --eval-every 0 --steps 40960 --run-dir ";
+  const std::string common = "train walk --envs 4 --threads 1 --eval-every 0 --steps 20480 --run-dir ";
   const CliRun one = mpirun(1, common + dir + "/mpi");
   ASSERT_EQ(one.code, 0) << one.out;
   const CliRun plain = cli::run(common + dir + "/plain");
@@ -94,14 +92,12 @@ TEST(MpiCli, TheMultiTaskNetworkTrainsOverTwoRanks) {
 
 TEST(MpiCli, ACardSharedByTheRanksIsTheRecordedCardToTheBit) {
   // the ranks step their episodes' physics, the policy acts on all episodes at once: the figures are one process's,
-  // so the retention check against the shipped model's recorded card passes (3 ranks: 10 episodes split 3, 3, 4)
-  for (const char* skill : {"one_leg", "pushup"}) {
-    for (int ranks : {2, 3}) {
-      const CliRun r = mpirun(ranks, std::string("eval ") + skill);
-      ASSERT_EQ(r.code, 0) << r.out;
-      EXPECT_NE(r.out.find("identical to the card recorded for this model"), std::string::npos) << r.out;
-      EXPECT_EQ(r.out.find("CARD PASSED"), r.out.rfind("CARD PASSED")) << "printed by one rank only:\n" << r.out;
-    }
+  // so the retention check against the shipped model's recorded card passes (3 ranks: uneven shares)
+  for (const auto& [skill, ranks] : {std::pair{"pushup", 2}, std::pair{"one_leg", 3}}) {  // a ground card, a driven one
+    const CliRun r = mpirun(ranks, std::string("eval ") + skill);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("identical to the card recorded for this model"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("CARD PASSED"), r.out.rfind("CARD PASSED")) << "printed by one rank only:\n" << r.out;
   }
 }
 
