@@ -33,6 +33,20 @@ void onSigint(int) {
   std::signal(SIGINT, SIG_DFL);
 }
 
+// SIGUSR1 asks for the same stop. Under mpirun it is the way: mpirun forwards SIGUSR1 to every rank, while Ctrl-C
+// makes it kill the ranks (the last checkpoint stays whole, but the iteration in progress is lost)
+volatile std::sig_atomic_t gStopAsked = 0;  // a SIGUSR1 that came before the trainer existed (while loading)
+void onSigusr1(int) {
+  gStopAsked = 1;
+  if (gTrainer) gTrainer->requestStop();
+}
+
+void stopOnSignals(ai::Trainer* t) {
+  gTrainer = t;
+  std::signal(SIGINT, t ? onSigint : SIG_DFL);
+  if (t && gStopAsked) t->requestStop();
+}
+
 void printLine(const std::string& line) {
   std::fputs(line.c_str(), stdout);
   std::fflush(stdout);
@@ -62,10 +76,8 @@ PrintedCard printCard(const ai::SkillContext& l, const ai::PolicyFn& act, const 
 
 int runTrain(const TrainOptions& o) {
   const ai::SkillContext l = ai::loadSkillContext(o.skill);
-  const ai::TrainSkillResult r = ai::trainSkill(l, o, printLine, [](ai::Trainer* t) {
-    gTrainer = t;
-    std::signal(SIGINT, t ? onSigint : SIG_DFL);
-  });
+  std::signal(SIGUSR1, onSigusr1);  // from the start: the ranks load at their own pace
+  const ai::TrainSkillResult r = ai::trainSkill(l, o, printLine, stopOnSignals);
   if (r.stopped) return 130;  // stopped by Ctrl-C (128 + SIGINT, as a shell reports it)
   if (o.resume && r.iterationsRun == 0 && ai::dist::world().isRoot())
     std::fprintf(stderr,
@@ -76,10 +88,8 @@ int runTrain(const TrainOptions& o) {
 }
 
 int runMultiTask(const ai::TrainMultiOptions& o) {
-  const ai::TrainMultiResult r = ai::trainMultiTask(o, printLine, [](ai::Trainer* t) {
-    gTrainer = t;
-    std::signal(SIGINT, t ? onSigint : SIG_DFL);
-  });
+  std::signal(SIGUSR1, onSigusr1);
+  const ai::TrainMultiResult r = ai::trainMultiTask(o, printLine, stopOnSignals);
   return r.stopped ? 130 : 0;
 }
 

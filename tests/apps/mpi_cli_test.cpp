@@ -69,6 +69,22 @@ TEST(MpiCli, TwoRanksTrainTheWalkInStepTheSameRunToRunAndAfterAResume) {
   EXPECT_TRUE(policy == engine::readFile(dir + "/c/walk.policy.bin", engine::kMaxModelFileBytes));
 }
 
+TEST(MpiCli, SigusrOneToMpirunStopsEveryRankWithACheckpoint) {
+  // mpirun forwards SIGUSR1 to the ranks (Ctrl-C makes it kill them); sent once the run has begun, every rank stops at
+  // the end of the iteration in progress, rank 0 writes the checkpoint, and the run exits 130 as after Ctrl-C
+  const std::string dir = cli::tempDir("mpi", "usr1");
+  const std::string out = dir + "/out.txt";
+  const CliRun r = cli::shell(kMpirun + "-np 2 " + TREELEARN_BINARY +
+                              " train walk --envs 4 --threads 1 --eval-every 0 --steps 409600 --run-dir " + dir +
+                              " > " + out + " 2>&1 & pid=$!; for i in $(seq 600); do grep -q 'training walk' " + out +
+                              " && break; sleep 0.1; done; sleep 2; kill -USR1 $pid; wait $pid; echo \"exit $?\" >> " +
+                              out + "; cat " + out);
+  EXPECT_NE(r.out.find("stopped at iteration 1 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("exit 130"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/checkpoint.bin"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/walk.onnx"));  // a stopped run exports nothing
+}
+
 TEST(MpiCli, OneRankIsTheRunWithoutMpirunBitForBit) {
   const std::string dir = cli::tempDir("mpi", "one");
   const std::string common = "train walk --envs 4 --threads 1 --eval-every 0 --steps 20480 --run-dir ";
