@@ -3,6 +3,8 @@
 
 #include <memory>
 
+#include "engine/core/error.h"
+
 namespace ai {
 
 EpisodeShare episodeShare(int episodes, const dist::Comm& comm) {
@@ -20,9 +22,13 @@ PolicyFn policyOverRanks(const PolicyFn& policy, const dist::Comm& comm, int epi
     all->resize(obs.rows(), episodes);
     size_t at = 0;
     for (const std::string& b : comm.gather(mine)) {
+      if (at * sizeof(float) + b.size() > size_t(all->size()) * sizeof(float))
+        throw engine::Error("a card over the ranks: the ranks' observations outnumber the card's episodes");
       std::memcpy(all->data() + at, b.data(), b.size());
       at += b.size() / sizeof(float);
     }
+    if (at != size_t(all->size()))
+      throw engine::Error("a card over the ranks: the ranks' observations do not cover the card's episodes");
     policy(*all, actions.get());
     *act = actions->middleCols(share.first, share.count);
   };
