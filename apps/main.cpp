@@ -548,7 +548,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(int64_t(1), int64_t(10000000000)));
   trainCmd->add_flag("--resume", train.resume,
                      "Continue the run in the run folder exactly where its checkpoint stopped");
-  trainCmd->add_option("--threads", train.threads, "Threads stepping the environments")->check(CLI::Range(1, 64));
+  trainCmd
+      ->add_option("--threads", train.threads,
+                   "Threads stepping the environments (default 2; under mpirun, the cores shared by the ranks on "
+                   "a machine)")
+      ->check(CLI::Range(1, 64));
   trainCmd->add_option("--envs", train.envs, "Parallel environments (must divide the PPO buffer)")
       ->check(CLI::Range(1, 4096));
   trainCmd->add_option("--seed", train.seed, "Run seed (default 1)")->check(seedNumber);
@@ -618,7 +622,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(int64_t(1), int64_t(1) << 40));
   multitaskCmd->add_option("--envs-per-skill", multitask.envsPerSkill, "Environments per skill (default 4)")
       ->check(CLI::Range(1, 256));
-  multitaskCmd->add_option("--threads", multitask.threads, "Threads (default 2)")->check(CLI::Range(1, 64));
+  multitaskCmd
+      ->add_option("--threads", multitask.threads,
+                   "Threads (default 2; under mpirun, the cores shared by the ranks on a machine)")
+      ->check(CLI::Range(1, 64));
   multitaskCmd->add_option("--seed", multitask.seed, "Seed of the fresh weights and the episodes (default 1)")
       ->check(seedNumber);
   multitaskCmd->add_option("--run-dir", multitask.runDir, "Run folder (default runs/multitask)");
@@ -693,7 +700,10 @@ int main(int argc, char** argv) {
           "Episodes (default: the card's own count, 50 for walk); for switches: trials per switch (default 10)")
       ->check(CLI::Range(1, 100000));
   evalCmd->add_option("--seed", eval.seed, "Seed (default 1)")->check(seedNumber);
-  evalCmd->add_option("--threads", eval.threads, "Threads")->check(CLI::Range(1, 64));
+  evalCmd
+      ->add_option("--threads", eval.threads,
+                   "Threads (default 2; under mpirun, the cores shared by the ranks on a machine)")
+      ->check(CLI::Range(1, 64));
   evalCmd->add_flag("--sweep", eval.sweep, "Walk: hold fixed commands and print achieved against commanded speeds");
   evalCmd->add_flag("--prior-only", eval.priorOnly,
                     "Run the card with zero network output: what the skill's prior does by itself (no model needed)");
@@ -734,6 +744,12 @@ int main(int argc, char** argv) {
     if (comm->size() > 1 && !(*trainCmd && !train.exportOnly) && !*multitaskCmd && !card)
       throw engine::Error("under mpirun only train, multitask and eval SKILL (a card) run across ranks (" +
                           std::to_string(comm->size()) + " started): run this command without mpirun");
+    if (comm->size() > 1) {  // ranks that share a machine share its cores, unless --threads says otherwise
+      const int threads = ai::dist::threadsPerRank();
+      if (!trainCmd->count("--threads")) train.threads = threads;
+      if (!multitaskCmd->count("--threads")) multitask.threads = threads;
+      if (!evalCmd->count("--threads")) eval.threads = threads;
+    }
     robot::setSkillTreePath(treeFile);
     play.seedGiven = playCmd->count("--seed") > 0;
     if (*playCmd) return cmdPlay(play);

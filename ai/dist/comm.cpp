@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <thread>
 
 #include "engine/core/error.h"
 
@@ -58,6 +59,13 @@ void sumInRankOrder(T* data, size_t count, int size) {
 #endif
 
 }  // namespace
+
+int threadsPerRank() {
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  const int ranks = std::max(1, local ? std::atoi(local) : world().size());
+  return std::max(1, int(cores) / ranks);
+}
 
 bool builtWithMpi() {
 #ifdef TREELEARN_MPI

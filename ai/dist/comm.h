@@ -50,6 +50,10 @@ class Comm {
 /// would train the whole run on its own and write over the others' files.
 const Comm& world();
 
+/// The threads a rank should use by default: the machine's cores divided by the ranks on it (Open MPI's
+/// OMPI_COMM_WORLD_LOCAL_SIZE, else every rank counts as local), at least 1.
+int threadsPerRank();
+
 /// True when this build can run under mpirun (cmake -DTREELEARN_MPI=ON, as scripts/setup.sh builds).
 bool builtWithMpi();
 

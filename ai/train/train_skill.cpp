@@ -238,9 +238,9 @@ TrainSkillResult trainSkill(const SkillContext& l, const TrainSkillOptions& o, c
         config.learningRate, std::isnan(o.learningRate) ? " ([ppo] branch_learning_rate)" : " (--learning-rate)");
   }
   if (comm.size() > 1)
-    say(log, "training %s: %lld steps, %d envs in %d ranks of %d (%d threads each), seed %llu, run folder %s\n",
-        skill.name.c_str(), (long long)steps, envs, comm.size(), share.count, o.threads, (unsigned long long)o.seed,
-        runDir.c_str());
+    say(log, "training %s: %lld steps, %d envs in %d ranks of %d (%d thread%s each), seed %llu, run folder %s\n",
+        skill.name.c_str(), (long long)steps, envs, comm.size(), share.count, o.threads, o.threads == 1 ? "" : "s",
+        (unsigned long long)o.seed, runDir.c_str());
   else
     say(log, "training %s: %lld steps, %d envs on %d threads, seed %llu, run folder %s\n", skill.name.c_str(),
         (long long)steps, envs, o.threads, (unsigned long long)o.seed, runDir.c_str());
