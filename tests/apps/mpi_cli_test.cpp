@@ -1,9 +1,9 @@
 // mpi_cli_test.cpp — training and cards over MPI ranks (ai/dist/comm.h) as a user starts them, `mpirun -np N
 // build/treelearn train|multitask|eval ...`: the ranks end in step, a run is the same run to run and after a resume,
 // one rank is the run without mpirun bit for bit, the ranks' update is the single process's update on all their
-// samples, and a card shared by the ranks is the recorded card to the bit. Built when the
-// project is built with MPI (scripts/setup.sh builds it so); Open MPI's settings for root and containers are given
-// here.
+// samples, and a card shared by the ranks is the recorded card to the bit. These are built when the project is built
+// with MPI (scripts/setup.sh builds it so; Open MPI's settings for root and containers are given here). A build
+// without MPI (the sanitizer build) gets the last test instead: started by mpirun, it refuses to run.
 #ifdef TREELEARN_MPI_TESTS
 #include <gtest/gtest.h>
 
@@ -139,6 +139,29 @@ TEST(MpiCli, EnvironmentsThatTheRanksCannotShareAndCommandsThatDoNotRunOnRanksAr
   const CliRun rewards = mpirun(2, "eval walk --rewards 1");
   EXPECT_NE(rewards.code, 0) << rewards.out;
   EXPECT_NE(rewards.out.find("under mpirun eval runs a report card"), std::string::npos) << rewards.out;
+}
+
+}  // namespace
+#endif
+
+#ifndef TREELEARN_MPI_TESTS
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "tests/cli_run.h"
+
+namespace {
+
+// a build without MPI (the sanitizer build) started by mpirun would train the whole run on every rank and write over
+// the others' files: it refuses, told by the launcher's environment
+TEST(MpiCli, ABuildWithoutMpiStartedByMpirunRefusesToRun) {
+  const std::string dir = cli::tempDir("mpi", "nompi");
+  const cli::CliRun r = cli::shell("OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0 " + std::string(TREELEARN_BINARY) +
+                                   " train walk --steps 20480 --run-dir " + dir + "/run");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("this treelearn was built without MPI"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/run"));
 }
 
 }  // namespace
