@@ -60,6 +60,11 @@ void sumInRankOrder(T* data, size_t count, int size) {
 
 }  // namespace
 
+const Comm& orOneProcess(const Comm* comm) {
+  static const Comm single;
+  return comm ? *comm : single;
+}
+
 int threadsPerRank() {
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
@@ -102,21 +107,18 @@ const Comm& world() {
   return comm;
 }
 
-void Comm::sum(float* data, size_t count) const {
+// one process: the identity
+template <typename T>
+void sumOverRanks(T* data, size_t count, int size) {
 #ifdef TREELEARN_MPI
-  if (size_ > 1) sumInRankOrder(data, count, size_);
+  if (size > 1) sumInRankOrder(data, count, size);
 #else
-  (void)data, (void)count;
+  (void)data, (void)count, (void)size;
 #endif
 }
 
-void Comm::sum(double* data, size_t count) const {
-#ifdef TREELEARN_MPI
-  if (size_ > 1) sumInRankOrder(data, count, size_);
-#else
-  (void)data, (void)count;
-#endif
-}
+void Comm::sum(float* data, size_t count) const { sumOverRanks(data, count, size_); }
+void Comm::sum(double* data, size_t count) const { sumOverRanks(data, count, size_); }
 
 std::vector<std::string> Comm::gather(const std::string& mine) const {
   if (size_ == 1) return {mine};

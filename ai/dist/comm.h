@@ -45,6 +45,9 @@ class Comm {
   int size_ = 1;
 };
 
+/// *comm, or a single process when comm is null (the default of every option that takes the ranks).
+const Comm& orOneProcess(const Comm* comm);
+
 /// The process's ranks: MPI_COMM_WORLD when started by mpirun in a build with MPI (MPI_Init on first use, finalised
 /// at exit), else a single process. Throws engine::Error when started by mpirun in a build without MPI: each rank
 /// would train the whole run on its own and write over the others' files.

@@ -107,8 +107,7 @@ CardResult runGroundCard(const robot::RobotModel& model, const SkillSpec& skill,
                         (standUp ? std::string(" and of its up skill") : std::string()));
   engine::WorkerPool pool(run.threads);
   std::mt19937_64 seeder(run.seed);
-  static const dist::Comm single;
-  const dist::Comm& comm = run.comm ? *run.comm : single;
+  const dist::Comm& comm = dist::orOneProcess(run.comm);
   // every episode's seed as one process draws them; this rank runs its share (all of them on one process)
   std::vector<uint64_t> seeds(size_t(o.episodes));
   for (uint64_t& s : seeds) s = seeder();

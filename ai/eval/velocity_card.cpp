@@ -334,8 +334,7 @@ CardResult runVelocityCard(const robot::RobotModel& model, const SkillSpec& skil
   const DrivenCard& d = *o.driven();
   engine::WorkerPool pool(run.threads);
   std::mt19937_64 seeder(run.seed);
-  static const dist::Comm single;
-  const dist::Comm& comm = run.comm ? *run.comm : single;
+  const dist::Comm& comm = dist::orOneProcess(run.comm);
   const bool onStairs = o.as<StairsCard>() != nullptr;
 
   // every episode's seed, as one process draws them; this rank runs its share, and the outcomes of all are gathered

@@ -78,8 +78,7 @@ PpoUpdater::PpoUpdater(const PpoConfig& config) : config_(config) {}
 PpoStats PpoUpdater::update(const RolloutBuffer& buffer, const PpoCoefficients& coefficients, std::mt19937_64* rng,
                             PolicyState* policy) {
   PpoStats stats;
-  static const dist::Comm single;
-  const dist::Comm& comm = comm_ ? *comm_ : single;
+  const dist::Comm& comm = dist::orOneProcess(comm_);
   // the run's samples (over every rank); this rank's index of run sample g, or -1 (its own index on one process)
   const int local = buffer.size(), envSteps = buffer.steps;
   const int total = comm_ ? envSteps * int(runEnvs_.size()) : local;
@@ -168,8 +167,7 @@ void PpoUpdater::sumGradients() {
 }
 
 void PpoUpdater::minibatchStep(const PpoCoefficients& c, int batch, PolicyState* policy, PpoStats* stats) {
-  static const dist::Comm single;
-  const dist::Comm& comm = comm_ ? *comm_ : single;
+  const dist::Comm& comm = dist::orOneProcess(comm_);
   const Eigen::Index dims = policy->logStd.size();
   const float eps = float(c.epsilon);
   const float invBatch = 1.0f / float(batch);

@@ -57,18 +57,11 @@ struct Trainer::RolloutStats {
   std::vector<double> termSums;  // per reward term, over all env steps
 };
 
-namespace {
-const dist::Comm& singleProcess() {
-  static const dist::Comm single;
-  return single;
-}
-}  // namespace
-
 Trainer::Trainer(VecEnv& env, const PpoConfig& config, TrainerOptions options)
     : env_(env),
       config_(config),
       options_(std::move(options)),
-      comm_(options_.comm ? *options_.comm : singleProcess()),
+      comm_(dist::orOneProcess(options_.comm)),
       updater_(config) {
   validatePpoConfig(config_, "ppo config");
   Eigen::setNbThreads(1);  // products outside the update (batched inference) stay on this thread
